@@ -1,0 +1,128 @@
+"""THE registry of diagnostic codes.
+
+Every diagnostic any stage reports has its code here, with a kebab-case name, a default
+severity and a one-line summary. The long explanation (what it means, why it matters, an
+example, the fix) lives in `explanations/CODE.md` beside this file: it is what
+`scriptc explain CODE` prints, what docs/diagnostics.md shows and what editors hover.
+
+Codes are forever: a retired code stays listed with `retired=True` so old suppressions and
+links keep working. Families:
+
+- P  syntax (the parser)            - S  structure of the item list (lowering)
+- M  rule messages and the mutex    - L  labels and goal ids
+- F  control flow between blocks    - V  values inside commands and messages
+- R  the rule grammar (conditions)  - A  audio tracks
+- J  thesis JSON input (`scriptc check`, `scriptc decompile`)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cache
+from importlib import resources
+
+from scriptc.diagnostics.model import Severity
+
+E, W, I = Severity.ERROR, Severity.WARNING, Severity.INFO
+
+
+@dataclass(frozen=True, slots=True)
+class Code:
+    code: str
+    name: str
+    severity: Severity
+    summary: str
+    retired: bool = False
+
+    @property
+    def explanation(self) -> str:
+        return explanation(self.code)
+
+
+_CODES = (
+    # P: syntax
+    Code("P001", "unexpected-token", E, "the parser found a token where another was expected"),
+    Code("P002", "unclosed-delimiter", E, "a bracket, parenthesis or brace is never closed"),
+    Code("P003", "unterminated-string", E, "a string is not closed before the end of its line"),
+    Code("P004", "unterminated-comment", E, "a `%` comment is never closed"),
+    Code("P005", "invalid-character", E, "a character that cannot start any token"),
+    Code("P006", "invalid-escape", E, "a backslash escape other than `\\\\` or `\\\"` in a string"),
+    Code("P007", "unreadable-file", E, "the file is not UTF-8 text"),
+    Code("P008", "stray-text", E, "text outside any bracketed item"),
+    # S: structure
+    Code("S001", "missing-activity-name", E, "a script must start with `[activityname]`"),
+    Code("S002", "item-order", E, "an item stands where the script's order does not allow it"),
+    Code("S003", "unknown-item", E, "a bracketed name that is not an item of the language"),
+    Code("S004", "missing-goal", E, "a script has no goal"),
+    Code("S005", "empty-goal", E, "a goal has no action"),
+    Code("S006", "empty-action", E, "an action has no block"),
+    Code("S007", "missing-goal-id", E, "a goal item has no id"),
+    Code("S008", "track-order", E, "an instruction block must list `MV()`, `LD()` and `AO()` once each, in this order"),
+    Code("S009", "rule-message-fields", E, "a rule message does not have its six fields"),
+    # M: rule messages and the mutex
+    Code("M001", "alfa-mutex-order", E, "alfa messages must all be `M` but the last, which is `U`"),
+    Code("M002", "omega-mutex-order", E, "omega messages must start with `L`, then all `M`"),
+    Code("M003", "unbalanced-mutex", E, "a script with rule messages must both unlock (alfa) and lock (omega)"),
+    Code("M004", "omega-leak", W, "the omega list does not undo what the alfa list did"),
+    Code("M005", "invalid-rule-letter", E, "a rule action or mutex letter that does not exist"),
+    # L: labels
+    Code("L001", "duplicate-label", E, "two blocks carry the same label"),
+    Code("L002", "duplicate-goal-id", E, "two goals carry the same id"),
+    Code("L003", "unknown-label", E, "a jump names a label no block carries"),
+    # F: control flow
+    Code("F001", "unreachable-block", W, "no path from the script's start reaches this block"),
+    Code("F002", "jump-cycle", E, "a cycle of jumps passes no instruction block and never ends"),
+    Code("F003", "no-terminus", I, "the script ends by running past its last block"),
+    # V: values
+    Code("V001", "command-fields", E, "a command string has the wrong number of fields"),
+    Code("V002", "not-a-number", E, "a field that must be a number is not one"),
+    Code("V003", "non-finite-number", E, "a number is infinite, not a number, or too large to represent"),
+    Code("V004", "colour-range", E, "a colour channel outside [0, 1]"),
+    Code("V005", "turnas-value", E, "`turnas` must be 0 or 1"),
+    Code("V006", "invalid-time", E, "a time that is not a whole number of milliseconds in range"),
+    Code("V007", "rulecode-range", E, "a rulecode that is not an unsigned 32-bit integer"),
+    # R: the rule grammar
+    Code("R001", "unknown-class", E, "a CLASS assignment names a class the map does not have"),
+    Code("R002", "unknown-field", E, "a field that entities of that class do not have"),
+    Code("R003", "unknown-function", E, "a function that is not in the function registry"),
+    Code("R004", "function-kind", E, "a function of one kind (B, F, E) used as another"),
+    Code("R005", "function-arity", E, "a function called with the wrong number of arguments"),
+    Code("R006", "unbound-alias", E, "an alias used before any assignment binds it"),
+    Code("R007", "invalid-scope", E, "a scope other than `U`, `L` or `T`"),
+    Code("R008", "rebound-alias", W, "an alias bound twice in one condition"),
+    Code("R009", "this-outside-test", E, "`?THIS` used outside the tests of a CLASS assignment"),
+    # A: audio
+    Code("A001", "absolute-audio-path", W, "an audio path that is absolute, so it only works on one machine"),
+    Code("A002", "audio-path-escapes", W, "an audio path that leaves the activity repository"),
+    Code("A003", "empty-audio-path", E, "an audio command without a track path"),
+    # J: thesis JSON input
+    Code("J001", "invalid-json", E, "the file is not valid JSON"),
+    Code("J002", "schema-violation", E, "the JSON does not have the shape of a thesis script"),
+    Code("J003", "invalid-jump-path", E, "a jump path that is not `goalG/actA/blkB` of an existing block"),
+)
+
+REGISTRY: dict[str, Code] = {c.code: c for c in _CODES}
+BY_NAME: dict[str, Code] = {c.name: c for c in _CODES}
+
+
+def lookup(code: str) -> Code:
+    """The registry entry of `code` (a code such as `L003`, or its name `unknown-label`)."""
+    entry = REGISTRY.get(code.upper()) or BY_NAME.get(code.lower())
+    if entry is None:
+        raise KeyError(code)
+    return entry
+
+
+def all_codes() -> tuple[Code, ...]:
+    return _CODES
+
+
+@cache
+def explanation(code: str) -> str:
+    """The markdown explanation shipped in `explanations/CODE.md`."""
+    try:
+        return (resources.files("scriptc.diagnostics") / "explanations" / f"{code}.md").read_text(
+            encoding="utf-8"
+        )
+    except FileNotFoundError:
+        return ""

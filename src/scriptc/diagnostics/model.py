@@ -1,0 +1,100 @@
+"""The diagnostic model shared by every stage, renderer, the CLI and the language server.
+
+A diagnostic belongs to one source file (the caller keeps them together); its spans are
+offsets into that file's text. Messages follow rustc: lowercase, no trailing period, code
+spans in backticks.
+"""
+
+from __future__ import annotations
+
+import enum
+from dataclasses import dataclass, field
+
+from scriptc.source import Span
+
+
+class Severity(enum.Enum):
+    ERROR = "error"
+    WARNING = "warning"
+    INFO = "info"
+
+    @property
+    def rank(self) -> int:
+        return {"error": 0, "warning": 1, "info": 2}[self.value]
+
+
+@dataclass(frozen=True, slots=True)
+class Label:
+    """A secondary span with a short message ("first defined here")."""
+
+    span: Span
+    message: str
+
+
+@dataclass(frozen=True, slots=True)
+class TextEdit:
+    """Replace the text of `span` with `new_text` (an insertion has an empty span)."""
+
+    span: Span
+    new_text: str
+
+
+@dataclass(frozen=True, slots=True)
+class Fix:
+    """A suggested change. `safe` fixes keep the script's meaning and may be applied by
+    `--fix`; unsafe ones are offered to editors only."""
+
+    message: str
+    edits: tuple[TextEdit, ...]
+    safe: bool = True
+
+
+@dataclass(frozen=True, slots=True)
+class Diagnostic:
+    code: str
+    severity: Severity
+    message: str
+    span: Span
+    labels: tuple[Label, ...] = ()
+    notes: tuple[str, ...] = ()
+    help: str | None = None
+    fix: Fix | None = None
+    # Where the diagnostic comes from, when that is not the script text itself (a JSON path
+    # for `scriptc check FILE.json`, say). Renderers show it as a note.
+    path: str | None = field(default=None)
+
+    def sort_key(self) -> tuple[int, int, str]:
+        return (self.span.start, self.span.end, self.code)
+
+
+def diagnostic(
+    code: str,
+    message: str,
+    span: Span,
+    *,
+    labels: tuple[Label, ...] | list[Label] = (),
+    notes: tuple[str, ...] | list[str] = (),
+    help: str | None = None,
+    fix: Fix | None = None,
+    path: str | None = None,
+    severity: Severity | None = None,
+) -> Diagnostic:
+    """Build a diagnostic with the registry's default severity for `code`."""
+    from scriptc.diagnostics.codes import lookup
+
+    entry = lookup(code)
+    return Diagnostic(
+        code=code,
+        severity=severity or entry.severity,
+        message=message,
+        span=span,
+        labels=tuple(labels),
+        notes=tuple(notes),
+        help=help,
+        fix=fix,
+        path=path,
+    )
+
+
+def has_errors(diagnostics: list[Diagnostic] | tuple[Diagnostic, ...]) -> bool:
+    return any(d.severity is Severity.ERROR for d in diagnostics)

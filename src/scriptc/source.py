@@ -1,0 +1,120 @@
+"""Source text and positions: the first stage of every pipeline.
+
+A `Span` is a pair of character offsets into one `SourceFile`'s text (code points, end
+exclusive). Lines and columns are computed only when something is shown to a person or an
+editor: `SourceFile.position(offset)` gives 1-based line and column in code points, and
+`utf16_column` converts for the language server protocol.
+"""
+
+from __future__ import annotations
+
+import bisect
+from dataclasses import dataclass
+from functools import cached_property
+
+
+@dataclass(frozen=True, slots=True)
+class Span:
+    """Half-open range of character offsets `[start, end)` in a source text."""
+
+    start: int
+    end: int
+
+    def __post_init__(self) -> None:
+        if self.end < self.start:
+            raise ValueError(f"span end {self.end} before start {self.start}")
+
+    def cover(self, other: Span) -> Span:
+        return Span(min(self.start, other.start), max(self.end, other.end))
+
+    def shift(self, delta: int) -> Span:
+        return Span(self.start + delta, self.end + delta)
+
+    def __len__(self) -> int:
+        return self.end - self.start
+
+
+@dataclass(frozen=True, slots=True)
+class Position:
+    """A 1-based line and a 1-based column counted in code points."""
+
+    line: int
+    column: int
+
+
+class SourceFile:
+    """The text of one file and the name it is shown under."""
+
+    __slots__ = ("path", "text", "__dict__")
+
+    def __init__(self, path: str, text: str) -> None:
+        self.path = path
+        self.text = text
+
+    def __repr__(self) -> str:
+        return f"SourceFile({self.path!r}, {len(self.text)} chars)"
+
+    @cached_property
+    def line_starts(self) -> list[int]:
+        """Offsets at which each line starts. `\\n`, `\\r\\n` and a lone `\\r` end lines."""
+        starts = [0]
+        text = self.text
+        i = text.find("\n")
+        if "\r" not in text:
+            while i != -1:
+                starts.append(i + 1)
+                i = text.find("\n", i + 1)
+            return starts
+        n = len(text)
+        for j, ch in enumerate(text):
+            if ch == "\n" or (ch == "\r" and (j + 1 >= n or text[j + 1] != "\n")):
+                starts.append(j + 1)
+        return starts
+
+    def line_of(self, offset: int) -> int:
+        """0-based line index containing `offset`."""
+        return bisect.bisect_right(self.line_starts, offset) - 1
+
+    def position(self, offset: int) -> Position:
+        offset = max(0, min(offset, len(self.text)))
+        line = self.line_of(offset)
+        return Position(line + 1, offset - self.line_starts[line] + 1)
+
+    def offset(self, line: int, column: int) -> int:
+        """Offset of a 1-based line and column (clamped to the text)."""
+        starts = self.line_starts
+        line = max(1, min(line, len(starts)))
+        start = starts[line - 1]
+        return min(start + max(column, 1) - 1, self.line_end(line - 1))
+
+    def line_end(self, line_index: int) -> int:
+        """Offset of the end of a 0-based line, before its line break."""
+        starts = self.line_starts
+        end = starts[line_index + 1] if line_index + 1 < len(starts) else len(self.text)
+        while end > starts[line_index] and self.text[end - 1] in "\r\n":
+            end -= 1
+        return end
+
+    def line_text(self, line_index: int) -> str:
+        return self.text[self.line_starts[line_index] : self.line_end(line_index)]
+
+    def utf16_column(self, offset: int) -> int:
+        """0-based UTF-16 column of `offset` on its line (the LSP's unit)."""
+        line = self.line_of(offset)
+        segment = self.text[self.line_starts[line] : offset]
+        return sum(2 if ord(ch) > 0xFFFF else 1 for ch in segment)
+
+    def offset_from_utf16(self, line_index: int, utf16_column: int) -> int:
+        """Offset of a 0-based line and UTF-16 column; out-of-range values are clamped."""
+        starts = self.line_starts
+        if line_index < 0:
+            return 0
+        if line_index >= len(starts):
+            return len(self.text)
+        offset = starts[line_index]
+        end = self.line_end(line_index)
+        units = 0
+        while offset < end and units < utf16_column:
+            units += 2 if ord(self.text[offset]) > 0xFFFF else 1
+            offset += 1
+        return offset
