@@ -4,6 +4,10 @@ Every node is frozen and slotted and carries the `Span` of the text it came from
 the script, or in the JSON file for `scriptc check`). Numbers keep the text the user wrote,
 because the thesis JSON emits speeds and colours as that text (JSON.md).
 
+Names keep their sigil where the language writes one as part of a reference: an alias is
+`?kid` (or `?THIS`), a variable `@count`, an attribute `$mood`; a class is `Human` (the `#`
+is left out, since the registry knows classes by name) and a field `positionrho`.
+
 A script is a tree: Script > Goal > Action > Block. Blocks are addressed by their position
 (goal, action, block indices, all from 0), which is also the JSON path `goalG/actA/blkB`.
 """

@@ -1,0 +1,59 @@
+"""The semantic checks: what a script that parsed and lowered may still get wrong.
+
+`check_script(script, source, functions=STANDARD)` runs every pass of `PASSES` over one
+script and returns their diagnostics sorted by position. The driver calls it only when the
+front end reported no error (a broken item would cascade into reports that are not the user's
+mistake).
+
+A pass is a function `pass(ctx: Context) -> list[Diagnostic]`, one module each. Passes report,
+never transform; they share the tables of one `Context` (blocks in execution order, the label
+table), built once per script. The order of `PASSES`, which is the order their findings are
+produced before sorting:
+
+1. `messages.check_messages`     M001-M005  rule messages and the mutex (thesis 4.4)
+2. `labels.check_labels`         L001-L003  labels and goal ids
+3. `flow.check_flow`             F001-F003  control flow between blocks
+4. `values.check_values`         V003-V007  numbers in commands, messages and conditions
+5. `conditions.check_conditions` R001-R009  the rule grammar against classes and functions
+6. `audio.check_audio`           A001-A003  audio track paths
+
+Importing this package loads only the standard library and `scriptc.ir`/`scriptc.diagnostics`
+(difflib is imported when a suggestion is needed).
+"""
+
+from __future__ import annotations
+
+from scriptc.check.audio import check_audio
+from scriptc.check.conditions import check_conditions
+from scriptc.check.context import Context
+from scriptc.check.flow import check_flow
+from scriptc.check.labels import check_labels
+from scriptc.check.messages import check_messages
+from scriptc.check.values import check_values
+from scriptc.diagnostics.model import Diagnostic
+from scriptc.ir.builtins import STANDARD, FunctionRegistry
+from scriptc.ir.nodes import Script
+from scriptc.source import SourceFile
+
+PASSES = (
+    check_messages,
+    check_labels,
+    check_flow,
+    check_values,
+    check_conditions,
+    check_audio,
+)
+
+__all__ = ["PASSES", "Context", "check_script"]
+
+
+def check_script(
+    script: Script, source: SourceFile, *, functions: FunctionRegistry = STANDARD
+) -> list[Diagnostic]:
+    """Every diagnostic the semantic passes find in `script`, sorted by position."""
+    ctx = Context(script, source, functions)
+    diagnostics: list[Diagnostic] = []
+    for check in PASSES:
+        diagnostics.extend(check(ctx))
+    diagnostics.sort(key=Diagnostic.sort_key)
+    return diagnostics

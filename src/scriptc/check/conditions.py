@@ -1,0 +1,335 @@
+"""Pass 5, the conditions of jump blocks (rule grammar, LANGUAGE.md section 2, thesis 4.3):
+classes (R001), fields (R002), functions against the registry (R003 unknown, R004 wrong kind,
+R005 wrong arity), aliases used before they are bound (R006), scopes (R007), aliases bound
+twice (R008) and `?THIS` outside the tests of a CLASS assignment (R009).
+
+Binding (decided, see explanations/R006.md): assignments run left to right, so inside one
+condition an alias is bound from the end of the CLASS assignment that binds it (its own tests
+come before). Across conditions, an alias that an earlier jump block (in execution order)
+binds with scope `U` counts as bound, since `U` lasts while the script runs. Fields are
+checked only where the alias's class is certain: `?THIS` inside a CLASS assignment's tests,
+an alias bound earlier in the same condition, or an alias that every CLASS assignment of the
+script binds to the same class.
+"""
+
+from __future__ import annotations
+
+from scriptc.check.context import Context, closest, code_list
+from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit, diagnostic
+from scriptc.ir.builtins import CLASSES, SCOPES
+from scriptc.ir.nodes import (
+    AliasRef,
+    AttAssignment,
+    AttRef,
+    Call,
+    CallEvaluation,
+    CallTest,
+    ClassAssignment,
+    Condition,
+    FieldRef,
+    FieldTest,
+    Name,
+    Value,
+    VarAssignment,
+)
+
+_KIND_ROLE = {
+    "B": "a test of a CLASS assignment",
+    "F": "the value of a VAR or ATT assignment",
+    "E": "an evaluation after the `!`",
+}
+_KIND_RETURNS = {
+    "B": "returns a boolean about the candidate entity",
+    "F": "returns a string",
+    "E": "returns a boolean",
+}
+
+
+def _bare(text: str, sigil: str) -> str:
+    """A name without its sigil (`#Human` -> `Human`), whichever way lowering kept it."""
+    return text[len(sigil):] if text.startswith(sigil) else text
+
+
+def check_conditions(ctx: Context) -> list[Diagnostic]:
+    out: list[Diagnostic] = []
+    if not ctx.jumps:
+        return out
+    classes = _alias_classes(ctx)
+    u_bound: set[str] = set()
+    for _, jump in ctx.jumps:
+        condition = jump.condition
+        _ConditionChecker(ctx, out, u_bound, classes).run(condition)
+        for asg in condition.assignments:
+            if isinstance(asg, ClassAssignment) and asg.scope.text == "U" and not asg.alias.is_this:
+                u_bound.add(asg.alias.name.text)
+    return out
+
+
+def _alias_classes(ctx: Context) -> dict[str, set[str]]:
+    """Every class each alias is bound to anywhere in the script."""
+    classes: dict[str, set[str]] = {}
+    for _, jump in ctx.jumps:
+        for asg in jump.condition.assignments:
+            if isinstance(asg, ClassAssignment):
+                classes.setdefault(asg.alias.name.text, set()).add(_bare(asg.class_name.text, "#"))
+    return classes
+
+
+class _ConditionChecker:
+    """Checks one condition; `u_bound` holds the aliases bound with `U` by earlier blocks."""
+
+    def __init__(self, ctx: Context, out: list[Diagnostic], u_bound: set[str],
+                 script_classes: dict[str, set[str]]) -> None:
+        self.ctx = ctx
+        self.out = out
+        self.u_bound = u_bound
+        self.script_classes = script_classes
+        # alias -> the CLASS assignment that bound it most recently in this condition
+        self.bound: dict[str, ClassAssignment] = {}
+        self.first_binding: dict[str, ClassAssignment] = {}
+        self.reported_unbound: set[str] = set()
+        self.later_binding: dict[str, ClassAssignment] = {}
+
+    def run(self, condition: Condition) -> None:
+        for asg in condition.assignments:
+            if isinstance(asg, ClassAssignment):
+                self.later_binding.setdefault(asg.alias.name.text, asg)
+        for asg in condition.assignments:
+            if isinstance(asg, ClassAssignment):
+                self.class_assignment(asg)
+            elif isinstance(asg, VarAssignment):
+                self.scope(asg.scope)
+                self.call(asg.call, None)
+            elif isinstance(asg, AttAssignment):
+                self.use(asg.alias, None)
+                self.scope(asg.scope)
+                self.call(asg.call, None)
+        for ev in condition.evaluations:
+            if isinstance(ev, CallEvaluation):
+                self.call(ev.call, None)
+
+    # -- assignments --------------------------------------------------------------------
+
+    def class_assignment(self, asg: ClassAssignment) -> None:
+        self.scope(asg.scope)
+        cls = self.class_name(asg.class_name)
+        for test in asg.tests:
+            if isinstance(test, FieldTest):
+                if cls is not None:
+                    self.field(test.field, cls, None)
+                self.value(test.value, asg, cls)
+            elif isinstance(test, CallTest):
+                self.call(test.call, (asg, cls))
+        alias = asg.alias
+        if alias.is_this:
+            self.this_outside(alias)
+            return
+        text = alias.name.text
+        first = self.first_binding.get(text)
+        if first is not None:
+            self.out.append(
+                diagnostic(
+                    "R008",
+                    f"the alias `{text}` is bound twice in one condition",
+                    alias.span,
+                    labels=(Label(first.alias.span, "first bound here"),),
+                    notes=("an entity holds one alias at a time (thesis 4.3); the second "
+                           "assignment rebinds the alias and the first entity is lost",),
+                    help="give the second entity its own alias",
+                )
+            )
+        else:
+            self.first_binding[text] = asg
+        self.bound[text] = asg
+
+    def scope(self, scope: Name) -> None:
+        if scope.text in SCOPES:
+            return
+        valid = ", ".join(f"`{k}` ({v})" for k, v in SCOPES.items())
+        fix = None
+        if scope.text.upper() in SCOPES and self.ctx.is_script_syntax:
+            fix = Fix(f"write `{scope.text.upper()}`", (TextEdit(scope.span, scope.text.upper()),))
+        shown = f"`{scope.text}`" if scope.text else "nothing"
+        self.out.append(
+            diagnostic("R007", f"unknown scope {shown}", scope.span,
+                       help=f"the scopes are {valid}", fix=fix)
+        )
+
+    def class_name(self, name: Name) -> str | None:
+        cls = _bare(name.text, "#")
+        if cls in CLASSES:
+            return cls
+        best = closest(cls, CLASSES)
+        fix = None
+        if best is not None:
+            help = f"a class with a similar name exists: `{best}`"
+            if self.ctx.is_script_syntax:
+                new = name.text[: len(name.text) - len(cls)] + best
+                fix = Fix(f"write `{best}`", (TextEdit(name.span, new),), safe=False)
+        else:
+            help = f"the classes of the map are {code_list(CLASSES)}"
+        self.out.append(
+            diagnostic("R001", f"unknown class `{cls}`", name.span, help=help, fix=fix)
+        )
+        return None
+
+    # -- uses -----------------------------------------------------------------------------
+
+    def use(self, alias: AliasRef, tests_of: ClassAssignment | None) -> None:
+        """An alias read by a value, or named by an ATT assignment."""
+        if alias.is_this:
+            if tests_of is None:
+                self.this_outside(alias)
+            return
+        text = alias.name.text
+        if text in self.bound or text in self.u_bound or text in self.reported_unbound:
+            return
+        self.reported_unbound.add(text)
+        labels = []
+        later = self.later_binding.get(text)
+        if later is not None:
+            labels.append(Label(later.alias.span, f"`{text}` is bound here, after this use"))
+            help = f"move the CLASS assignment that binds `{text}` before its first use"
+        else:
+            help = (f"bind it first, e.g. `{{CLASS #Human U {text} (B: near(1.5))}}` before "
+                    "this use, or in an earlier jump block with scope `U`")
+        self.out.append(
+            diagnostic(
+                "R006",
+                f"the alias `{text}` is used before it is bound",
+                alias.span,
+                labels=labels,
+                notes=("assignments run left to right; only CLASS assignments bind aliases, "
+                       "and only earlier ones in this condition or earlier jump blocks with "
+                       "scope `U` count",),
+                help=help,
+            )
+        )
+
+    def this_outside(self, alias: AliasRef) -> None:
+        self.out.append(
+            diagnostic(
+                "R009",
+                "`?THIS` used outside the tests of a CLASS assignment",
+                alias.span,
+                notes=("`?THIS` is the candidate entity a CLASS assignment is testing; "
+                       "elsewhere there is no candidate",),
+                help="name the entity by the alias a CLASS assignment bound it to",
+            )
+        )
+
+    def value(self, value: Value, tests_of: ClassAssignment | None, this_class: str | None) -> None:
+        if isinstance(value, AliasRef):
+            self.use(value, tests_of)
+        elif isinstance(value, FieldRef):
+            alias = value.alias
+            self.use(alias, tests_of)
+            if alias.is_this:
+                if tests_of is not None and this_class is not None:
+                    self.field(value.field, this_class, None)
+                return
+            cls, binding = self.class_of(alias.name.text)
+            if cls is not None:
+                self.field(value.field, cls, (alias.name.text, binding))
+        elif isinstance(value, AttRef):
+            self.use(value.alias, tests_of)
+
+    def class_of(self, alias: str) -> tuple[str | None, ClassAssignment | None]:
+        """The class an alias certainly holds here, and the assignment that says so."""
+        asg = self.bound.get(alias)
+        if asg is not None:
+            cls = _bare(asg.class_name.text, "#")
+            return (cls if cls in CLASSES else None), asg
+        if alias not in self.u_bound:
+            return None, None  # unbound: R006 was reported
+        classes = self.script_classes.get(alias, set())
+        if len(classes) == 1:
+            (cls,) = classes
+            if cls in CLASSES:
+                return cls, None
+        return None, None
+
+    def field(self, name: Name, cls: str, via: tuple[str, ClassAssignment | None] | None) -> None:
+        field = _bare(_bare(name.text, ">"), "&")
+        fields = [f.name for f in CLASSES[cls]]
+        if field in fields:
+            return
+        labels = []
+        if via is not None and via[1] is not None:
+            labels.append(Label(via[1].class_name.span, f"`{via[0]}` is bound to a `{cls}` here"))
+        best = closest(field, fields)
+        fix = None
+        if best is not None:
+            help = f"a field with a similar name exists: `{best}`"
+            if self.ctx.is_script_syntax:
+                new = name.text[: len(name.text) - len(field)] + best
+                fix = Fix(f"write `{best}`", (TextEdit(name.span, new),), safe=False)
+        else:
+            help = f"the fields of `{cls}` are {code_list(fields)}"
+        self.out.append(
+            diagnostic("R002", f"`{cls}` has no field `{field}`", name.span,
+                       labels=labels, help=help, fix=fix)
+        )
+
+    # -- calls ----------------------------------------------------------------------------
+
+    def call(self, call: Call, test: tuple[ClassAssignment, str | None] | None) -> None:
+        tests_of, this_class = test if test is not None else (None, None)
+        for arg in call.args:
+            self.value(arg, tests_of, this_class)
+        registry = self.ctx.functions
+        name = call.name.text
+        function = registry.get(name)
+        kind = call.kind
+        if function is None:
+            same_kind = registry.names(kind)
+            best = closest(name, same_kind)
+            fix = None
+            if best is not None:
+                help = f"a {kind} function with a similar name exists: `{best}`"
+                if self.ctx.is_script_syntax:
+                    fix = Fix(f"call `{best}`", (TextEdit(call.name.span, best),), safe=False)
+            else:
+                help = f"the {kind} functions are {code_list(same_kind)}"
+            self.out.append(
+                diagnostic("R003", f"unknown {kind} function `{name}`", call.name.span,
+                           notes=("functions come from the function registry: the standard "
+                                  "set and those the activity repository declares",),
+                           help=help, fix=fix)
+            )
+            return
+        if function.kind != kind:
+            self.out.append(
+                diagnostic(
+                    "R004",
+                    f"`{name}` is {_article(function.kind)} {function.kind} function, "
+                    f"used as {_article(kind)} {kind} function",
+                    call.name.span,
+                    notes=(f"{kind}: is {_KIND_ROLE[kind]}; `{function.signature}` "
+                           f"{_KIND_RETURNS[function.kind]}",),
+                    help=f"the {kind} functions are {code_list(registry.names(kind))}",
+                )
+            )
+            return
+        if function.arity != len(call.args):
+            given = len(call.args)
+            self.out.append(
+                diagnostic(
+                    "R005",
+                    f"`{name}` takes {_count(function.arity)} but {_count(given, verb=True)}",
+                    call.span,
+                    notes=(f"the signature is `{function.signature}`",),
+                    help=f"call it as `{function.signature}`",
+                )
+            )
+
+
+def _article(kind: str) -> str:
+    return "an" if kind in "EF" else "a"
+
+
+def _count(n: int, verb: bool = False) -> str:
+    word = "argument" if n == 1 else "arguments"
+    if not verb:
+        return f"{n} {word}"
+    return f"{n} {'was' if n == 1 else 'were'} given"

@@ -1,0 +1,191 @@
+"""Pass 4, values inside commands, rule messages and conditions (LANGUAGE.md "Static rules"):
+finite numbers (V003), colour channels in [0, 1] (V004), `turnas` 0 or 1 (V005), times whole,
+non-negative and within a C++ `int` (V006), rulecodes within uint32 (V007).
+
+Numbers whose text is not a number at all (`Number.value is None`) were reported where they
+were read (V002) and are skipped here; so are `inf` and `nan` written as such (V003 there).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from scriptc.check.context import Context
+from scriptc.diagnostics.model import Diagnostic, Fix, TextEdit, diagnostic
+from scriptc.ir.nodes import (
+    AttAssignment,
+    CallEvaluation,
+    CallTest,
+    ClassAssignment,
+    Condition,
+    FieldTest,
+    InstructionBlock,
+    JumpBlock,
+    Number,
+    NumberValue,
+    Value,
+    VarAssignment,
+)
+from scriptc.ir.values import NUMBER_RE
+
+# Decided: the robot's software kept `wait_t` and `duration` in a C++ `int` (32 bits).
+MAX_TIME = 2**31 - 1
+MAX_RULECODE = 2**32 - 1
+
+
+def check_values(ctx: Context) -> list[Diagnostic]:
+    out: list[Diagnostic] = []
+    fixes = ctx.is_script_syntax
+    for msg in (*ctx.script.alfa, *ctx.script.omega):
+        _whole(msg.rulecode, "the rulecode", 0, MAX_RULECODE, "V007", fixes, out)
+    for block in ctx.blocks:
+        if isinstance(block, InstructionBlock):
+            for mv in block.moves:
+                for name in ("v_x", "v_y", "v_theta"):
+                    _finite(getattr(mv, name), f"`{name}`", out)
+                _time(mv.wait_t, "`wait_t`", fixes, out)
+                _time(mv.duration, "`duration`", fixes, out)
+            for led in block.leds:
+                for name in ("r", "g", "b"):
+                    _colour(getattr(led, name), name, out)
+                _turnas(led.turnas, fixes, out)
+                _time(led.wait_t, "`wait_t`", fixes, out)
+                _time(led.duration, "`duration`", fixes, out)
+            for ao in block.audios:
+                _time(ao.wait_t, "`wait_t`", fixes, out)
+                _time(ao.duration, "`duration`", fixes, out)
+        elif isinstance(block, JumpBlock):
+            for number in condition_numbers(block.condition):
+                _finite(number, "this number", out)
+    return out
+
+
+def _read(number: Number) -> float | None:
+    """The value, or None when the text was already reported where it was read."""
+    if not NUMBER_RE.fullmatch(number.text):
+        return None
+    return number.value
+
+
+def _finite(number: Number, what: str, out: list[Diagnostic]) -> bool:
+    """Report V003 for a number too large to represent; True when the number is usable."""
+    value = _read(number)
+    if value is None:
+        return False
+    if number.is_finite:
+        return True
+    out.append(
+        diagnostic(
+            "V003",
+            f"{what} `{number.text}` is too large to represent",
+            number.span,
+            notes=("the robot reads it as a 32-bit or 64-bit float, where it becomes infinite",),
+            help="write a finite number",
+        )
+    )
+    return False
+
+
+def _replace(number: Number, text: str, fixes: bool) -> Fix | None:
+    return Fix(f"write `{text}`", (TextEdit(number.span, text),)) if fixes else None
+
+
+def _whole(number: Number, what: str, low: int, high: int, code: str, fixes: bool,
+           out: list[Diagnostic], unit: str = "") -> None:
+    """A field the JSON emits as an integer: whole text, within [low, high]."""
+    value = _read(number)
+    if value is None:
+        return
+    limit = "an unsigned 32-bit integer" if code == "V007" else "a whole number of milliseconds"
+    if number.is_integer_text:
+        n = int(number.text)
+        if n < low:
+            out.append(diagnostic(code, f"{what} must not be negative, found `{number.text}`", number.span,
+                                  help=f"{what} must be {limit} from {low} to {high}"))
+        elif n > high:
+            out.append(diagnostic(code, f"{what} is `{number.text}`, above the limit of {high}{unit}", number.span,
+                                  notes=_limit_note(code),
+                                  help=f"{what} must be {limit} from {low} to {high}"))
+        return
+    if not _finite(number, what, out):
+        return
+    fix = None
+    if value.is_integer() and low <= value <= high:
+        fix = _replace(number, str(int(value)), fixes)
+    out.append(
+        diagnostic(code, f"{what} must be {limit}, found `{number.text}`", number.span,
+                   notes=("the thesis JSON stores it as an integer, written without fraction "
+                          "or exponent",),
+                   help=f"write it as a whole number, from {low} to {high}",
+                   fix=fix)
+    )
+
+
+def _limit_note(code: str) -> tuple[str, ...]:
+    if code == "V006":
+        return ("the robot's software keeps times in a C++ `int`: about 24.8 days at most",)
+    return ("rulecodes are unsigned 32-bit integers",)
+
+
+def _time(number: Number, what: str, fixes: bool, out: list[Diagnostic]) -> None:
+    _whole(number, what, 0, MAX_TIME, "V006", fixes, out, unit=" ms")
+
+
+def _colour(number: Number, channel: str, out: list[Diagnostic]) -> None:
+    if not _finite(number, f"the colour channel `{channel}`", out):
+        return
+    value = number.value
+    assert value is not None
+    if 0.0 <= value <= 1.0:
+        return
+    hint = ""
+    if 1.0 < value <= 255.0:
+        hint = "; for a 0-255 value divide by 255"
+    out.append(
+        diagnostic(
+            "V004",
+            f"the colour channel `{channel}` is `{number.text}`, outside [0, 1]",
+            number.span,
+            help=f"write a value from 0 (off) to 1 (full brightness){hint}",
+        )
+    )
+
+
+def _turnas(number: Number, fixes: bool, out: list[Diagnostic]) -> None:
+    if not _finite(number, "`turnas`", out):
+        return
+    value = number.value
+    if number.is_integer_text and value in (0.0, 1.0):
+        return
+    fix = _replace(number, str(int(value)), fixes) if value in (0.0, 1.0) else None
+    out.append(
+        diagnostic(
+            "V005",
+            f"`turnas` must be 0 or 1, found `{number.text}`",
+            number.span,
+            help="write `1` to turn the LEDs on or `0` to keep them off",
+            fix=fix,
+        )
+    )
+
+
+def condition_numbers(condition: Condition) -> Iterator[Number]:
+    """Every number literal of a condition, left to right."""
+    for asg in condition.assignments:
+        if isinstance(asg, ClassAssignment):
+            for test in asg.tests:
+                if isinstance(test, FieldTest):
+                    yield from _numbers((test.value,))
+                elif isinstance(test, CallTest):
+                    yield from _numbers(test.call.args)
+        elif isinstance(asg, (VarAssignment, AttAssignment)):
+            yield from _numbers(asg.call.args)
+    for ev in condition.evaluations:
+        if isinstance(ev, CallEvaluation):
+            yield from _numbers(ev.call.args)
+
+
+def _numbers(values: tuple[Value, ...]) -> Iterator[Number]:
+    for v in values:
+        if isinstance(v, NumberValue):
+            yield v.number

@@ -1,0 +1,34 @@
+"""`scriptc compile FILE [-o OUT] [--emit json]`: a script to thesis JSON.
+
+Without `-o` the output goes beside the input with the back end's suffix (`dance.script` ->
+`dance.json`); input from stdin (`-`) goes to stdout; `-o -` writes to stdout. The output is
+written only when the script has no error, atomically (a temporary file renamed over the
+target), and never over the input file itself. Diagnostics go to stderr as text.
+"""
+
+from __future__ import annotations
+
+import click
+
+from scriptc import driver
+from scriptc.cli._shell import load, refuse_overwriting_input, show, stdin_name_option, write_output
+
+
+@click.command("compile")
+@click.argument("file")
+@click.option("-o", "--output", metavar="OUT",
+              help="Output file (- for stdout). Default: FILE with the back end's suffix.")
+@click.option("--emit", "back_end", type=click.Choice(list(driver.EMITTERS)), default="json",
+              show_default=True, help="Back end.")
+@stdin_name_option
+@click.pass_context
+def command(ctx: click.Context, file: str, output: str | None, back_end: str,
+            stdin_name: str) -> None:
+    """Compile a script (- for stdin) to thesis JSON."""
+    output = output or driver.default_output(file, back_end)
+    refuse_overwriting_input(file, output)
+    analysis = load(file, "script", stdin_name)
+    show([analysis], err=True)
+    if not analysis.ok:
+        ctx.exit(1)
+    write_output(output, driver.emit(analysis.script, back_end))

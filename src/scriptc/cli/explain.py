@@ -1,0 +1,65 @@
+"""`scriptc explain CODE` and `scriptc explain --all`: the registry of diagnostic codes.
+
+One code prints its heading and its explanation (markdown, rendered by rich on a terminal);
+`--all` lists every code as text or as JSON (`code`, `name`, `severity`, `summary`).
+"""
+
+from __future__ import annotations
+
+import sys
+
+import click
+
+from scriptc.cli._shell import CliError, color_mode, use_color, write, write_bytes
+
+
+@click.command("explain")
+@click.argument("code", required=False)
+@click.option("--all", "all_", is_flag=True, help="List every code.")
+@click.option("--format", "format_", type=click.Choice(["text", "json"]), default="text",
+              show_default=True, help="Output format of --all.")
+def command(code: str | None, all_: bool, format_: str) -> None:
+    """Explain a diagnostic code (L003) or name (unknown-label)."""
+    from scriptc.diagnostics import codes
+
+    if all_ == (code is not None):
+        raise click.UsageError("give either a CODE or --all")
+    if all_:
+        entries = codes.all_codes()
+        if format_ == "json":
+            import json
+
+            records = [{"code": c.code, "name": c.name, "severity": c.severity.value,
+                        "summary": c.summary} for c in entries]
+            write_bytes((json.dumps(records, indent=2, ensure_ascii=False) + "\n").encode())
+        else:
+            width = max(len(c.name) for c in entries)
+            write("".join(f"{c.code}  {c.severity.value:<7}  {c.name:<{width}}  {c.summary}"
+                          f"{' (retired)' if c.retired else ''}\n" for c in entries))
+        return
+    try:
+        entry = codes.lookup(code)
+    except KeyError:
+        from scriptc.driver import suggest_codes
+
+        hint = suggest_codes(code)
+        message = f"unknown code `{code}`"
+        if hint:
+            named = [f"`{h}` ({codes.lookup(h).name})" for h in hint]
+            message += f"; did you mean {' or '.join(named)}?"
+        raise CliError(message + " (`scriptc explain --all` lists them)") from None
+    heading = f"{entry.code} ({entry.name}): {entry.summary}"
+    if entry.retired:
+        heading += " (retired)"
+    body = entry.explanation or "(no explanation has been written for this code yet)\n"
+    if use_color(color_mode(), sys.stdout):
+        from rich.console import Console
+        from rich.markdown import Markdown
+
+        console = Console(no_color=False, highlight=False)
+        console.print(heading, style="bold", markup=False)
+        console.print(f"default severity: {entry.severity.value}", markup=False)
+        console.print()
+        console.print(Markdown(body))
+        return
+    write(f"{heading}\ndefault severity: {entry.severity.value}\n\n{body}")

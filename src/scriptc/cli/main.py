@@ -1,0 +1,101 @@
+"""The `scriptc` click group, the top-level error handling and the entry point
+(`scriptc.cli.main:main`, also `python -m scriptc`).
+
+Verbs are listed here with their one-line help and imported only when invoked (`LazyGroup`):
+importing every verb module, and through them rich or jsonschema, would cost `scriptc lint`
+its cold-start budget (toolchain-facts.md, "Import costs").
+"""
+
+from __future__ import annotations
+
+import importlib
+import os
+import sys
+
+import click
+
+from scriptc import __version__
+
+# name -> (module holding `command`, one-line help shown by `scriptc --help`)
+VERBS: dict[str, tuple[str, str]] = {
+    "compile": ("scriptc.cli.compile", "Compile a script to thesis JSON."),
+    "lint": ("scriptc.cli.lint", "Report the diagnostics of scripts and folders of scripts."),
+    "check": ("scriptc.cli.check", "Check thesis JSON files."),
+    "decompile": ("scriptc.cli.decompile", "Turn thesis JSON back into script syntax."),
+    "explain": ("scriptc.cli.explain", "Explain a diagnostic code."),
+}
+
+INTERNAL_ERROR_HINT = (
+    "this is a bug in scriptc: please report it with the command line and the input file "
+    "(set SCRIPTC_DEBUG=1 to see the traceback)"
+)
+
+
+class LazyGroup(click.Group):
+    """A group whose verbs are imported on first use, with the top-level error policy:
+    anything that escapes a verb is an internal error (exit 2), never a traceback."""
+
+    def list_commands(self, ctx: click.Context) -> list[str]:
+        return list(VERBS)
+
+    def get_command(self, ctx: click.Context, name: str) -> click.Command | None:
+        if name not in VERBS:
+            return None
+        return importlib.import_module(VERBS[name][0]).command
+
+    def format_commands(self, ctx: click.Context, formatter: click.HelpFormatter) -> None:
+        with formatter.section("Commands"):
+            formatter.write_dl([(name, help) for name, (_module, help) in VERBS.items()])
+
+    def invoke(self, ctx: click.Context):
+        try:
+            return super().invoke(ctx)
+        except (click.exceptions.Exit, click.exceptions.Abort, click.ClickException):
+            raise
+        except BrokenPipeError:
+            raise  # click's main quietens a closed pipe (`scriptc explain --all | head`)
+        except KeyboardInterrupt:
+            click.echo("error: interrupted", err=True)
+            ctx.exit(130)
+        except Exception as exc:  # noqa: BLE001 - the one place that catches everything
+            report_internal_error(exc)
+            ctx.exit(2)
+
+
+def report_internal_error(exc: BaseException) -> None:
+    if os.environ.get("SCRIPTC_DEBUG"):
+        import traceback
+
+        traceback.print_exception(exc)
+    detail = str(exc)
+    click.echo(f"error: internal error: {type(exc).__name__}{': ' + detail if detail else ''}",
+               err=True)
+    click.echo(f"  = help: {INTERNAL_ERROR_HINT}", err=True)
+
+
+@click.group(cls=LazyGroup, context_settings={"help_option_names": ["-h", "--help"]})
+@click.version_option(__version__, "-V", "--version", prog_name="scriptc",
+                      message="%(prog)s %(version)s")
+@click.option("--color", "--colour", "color", type=click.Choice(["auto", "always", "never"]),
+              default="auto", show_default=True,
+              help="Colour the text output: auto means on a terminal, unless NO_COLOR is set "
+                   "(FORCE_COLOR forces it).")
+@click.pass_context
+def cli(ctx: click.Context, color: str) -> None:
+    """scriptc: the compiler toolchain of the robot activity language.
+
+    Exit status: 0 no errors, 1 errors found, 2 usage problem, unreadable file or internal
+    error.
+    """
+    ctx.ensure_object(dict)["color"] = color
+
+
+def main(argv: list[str] | None = None) -> None:
+    """The `scriptc` command."""
+    try:
+        cli.main(args=argv, prog_name="scriptc")
+    except SystemExit:
+        raise
+    except Exception as exc:  # noqa: BLE001 - outside any verb (argument parsing, say)
+        report_internal_error(exc)
+        sys.exit(2)

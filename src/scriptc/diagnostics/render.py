@@ -1,0 +1,484 @@
+"""Renderers: every output format of diagnostics is a function over the one model.
+
+Each renderer takes a list of results, one per file, each with a `source` (SourceFile) and
+its `diagnostics` (in the order to show them), and returns the whole output as a string:
+
+- `render_text`   rustc style, for people (`error[L003]: ...`, ` --> file:line:col`, the source
+                  line with `^^^` under the span); colour through rich only when asked for;
+- `render_json`   a JSON list, one object per diagnostic (schemas/lint-output.schema.json);
+- `render_sarif`  SARIF 2.1.0, for code-scanning services;
+- `render_github` GitHub Actions workflow commands (`::error file=...::message`).
+
+Positions shown anywhere are 1-based lines and columns counted in code points; end columns
+are exclusive (the column just after the span), as in SARIF. This module imports nothing
+beyond the standard library unless colour is asked for (`rich`, then): it sits on the path of
+`scriptc lint`, whose cold start is budgeted.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from typing import Any, Protocol
+
+from scriptc.diagnostics.model import Diagnostic, Severity
+from scriptc.source import SourceFile, Span
+
+
+class Result(Protocol):
+    """What a renderer needs of one file's results (`scriptc.driver.Analysis` is one)."""
+
+    source: SourceFile
+    diagnostics: Sequence[Diagnostic]
+
+
+def _pairs(results: Sequence[Any]) -> list[tuple[SourceFile, Sequence[Diagnostic]]]:
+    """Accept Analysis-like objects or plain `(source, diagnostics)` tuples."""
+    return [r if isinstance(r, tuple) else (r.source, r.diagnostics) for r in results]
+
+
+def _code_entry(code: str):
+    from scriptc.diagnostics.codes import REGISTRY
+
+    return REGISTRY.get(code)
+
+
+def _code_name(code: str) -> str:
+    entry = _code_entry(code)
+    return entry.name if entry is not None else ""
+
+
+# ---------------------------------------------------------------------------------------------
+# text
+
+TAB_WIDTH = 4  # every tab shows as this many spaces (not tab stops), as rustc does
+MAX_LINE = 120  # longer source lines are cut around the span, with `...` at the cuts
+_CONTEXT = 40  # characters kept before the first annotation of a cut line
+
+_SEVERITY_STYLE = {
+    Severity.ERROR: "bold red",
+    Severity.WARNING: "bold yellow",
+    Severity.INFO: "bold cyan",
+}
+_FRAME = "bold blue"  # gutter, arrow, `|`, `=` and secondary labels
+_BOLD = "bold"
+
+# A line of output: pieces of text, each with a rich style or None.
+_Line = list[tuple[str, "str | None"]]
+
+
+def _cell(ch: str) -> tuple[str, int]:
+    """What one source character shows as, and how many terminal columns that takes.
+
+    Tabs become spaces; control characters become their visible "control picture" (U+2400
+    block) so that a stray escape or NUL cannot act on the terminal; format characters (bidi
+    overrides, zero-width joiners) become U+FFFD so they cannot reorder the line; combining
+    marks take no column and East Asian wide characters two, so carets stay under the text.
+    """
+    o = ord(ch)
+    if 0x20 <= o < 0x7F:
+        return ch, 1
+    if ch == "\t":
+        return " " * TAB_WIDTH, TAB_WIDTH
+    if o < 0x20:
+        return chr(0x2400 + o), 1
+    if o == 0x7F:
+        return "\u2421", 1
+    import unicodedata
+
+    category = unicodedata.category(ch)
+    if category in ("Mn", "Me"):
+        return ch, 0
+    if category in ("Cf", "Cc", "Cs", "Zl", "Zp"):
+        return "\ufffd", 1
+    return ch, 2 if unicodedata.east_asian_width(ch) in ("W", "F") else 1
+
+
+class _Annotation:
+    __slots__ = ("line", "start", "end", "marker", "message", "style")
+
+    def __init__(self, source: SourceFile, span: Span, marker: str, message: str | None,
+                 style: str) -> None:
+        # Columns here are 0-based character indices within the line; a span running over
+        # several lines is shown on its first line, up to the end of that line.
+        self.line = source.line_of(min(span.start, len(source.text)))
+        line_start = source.line_starts[self.line]
+        line_end = source.line_end(self.line)
+        self.start = span.start - line_start
+        self.end = max(self.start, min(span.end, line_end) - line_start)
+        self.marker = marker
+        self.message = message
+        self.style = style
+
+
+def _snippet_line(text: str, annotations: list[_Annotation]) -> tuple[str, list[tuple[int, int]]]:
+    """The displayed line and, per annotation, its display column and width."""
+    lo, hi = 0, len(text)
+    if hi > MAX_LINE:
+        lo = max(0, min(a.start for a in annotations) - _CONTEXT)
+        hi = min(hi, lo + MAX_LINE)
+    shown: list[str] = ["..."] if lo > 0 else []
+    columns = [3 if lo > 0 else 0]  # display column at which each character of the window starts
+    for ch in text[lo:hi]:
+        cell, width = _cell(ch)
+        shown.append(cell)
+        columns.append(columns[-1] + width)
+    if hi < len(text):
+        shown.append("...")
+
+    def column(index: int) -> int:
+        i = min(max(index, lo), hi) - lo
+        # Past the end of the line (a span on the line break, or at the end of the file)
+        # the caret goes just after the text.
+        return columns[i] + max(0, index - hi) if hi == len(text) else columns[i]
+
+    places = []
+    for a in annotations:
+        start = column(a.start)
+        places.append((start, max(1, column(a.end) - start)))
+    return "".join(shown).rstrip(), places
+
+
+def _diagnostic_lines(source: SourceFile, d: Diagnostic) -> list[_Line]:
+    severity_style = _SEVERITY_STYLE[d.severity]
+    annotations = [_Annotation(source, d.span, "^", None, severity_style)]
+    annotations += [_Annotation(source, label.span, "-", label.message, _FRAME)
+                    for label in d.labels]
+    by_line: dict[int, list[_Annotation]] = {}
+    for a in annotations:
+        by_line.setdefault(a.line, []).append(a)
+    shown_lines = sorted(by_line)
+    # A single line between two shown lines is shown too; a longer gap becomes `...`.
+    gaps_filled = []
+    for i, line in enumerate(shown_lines):
+        if i and line - shown_lines[i - 1] == 2:
+            gaps_filled.append(line - 1)
+        gaps_filled.append(line)
+    width = len(str(gaps_filled[-1] + 1))
+    pad = " " * width
+
+    pos = source.position(d.span.start)
+    out: list[_Line] = [
+        [(f"{d.severity.value}[{d.code}]", severity_style), (": ", _BOLD), (d.message, _BOLD)],
+        [(f"{pad}--> ", _FRAME), (f"{source.path}:{pos.line}:{pos.column}", None)],
+        [(f"{pad} |", _FRAME)],
+    ]
+    previous = None
+    for line in gaps_filled:
+        if previous is not None and line - previous > 1:
+            out.append([("...", _FRAME)])
+        previous = line
+        here = sorted(by_line.get(line, []), key=lambda a: (a.start, a.marker != "^"))
+        text, places = _snippet_line(source.line_text(line), here)
+        row: _Line = [(f"{line + 1:>{width}} |", _FRAME)]
+        if text:
+            row.append((" " + text, None))
+        out.append(row)
+        for a, (column, length) in zip(here, places):
+            row = [(f"{pad} | ", _FRAME), (" " * column + a.marker * length, a.style)]
+            if a.message:
+                row.append((" " + a.message, a.style))
+            out.append(row)
+
+    extras: list[tuple[str, str]] = []
+    if d.path:
+        extras.append(("note", f"at `{d.path}`"))
+    extras += [("note", note) for note in d.notes]
+    if d.help:
+        extras.append(("help", d.help))
+    if d.fix is not None and d.fix.message != d.help:
+        extras.append(("help", d.fix.message))
+    if extras:
+        out.append([(f"{pad} |", _FRAME)])
+    for kind, message in extras:
+        first, *rest = message.splitlines() or [""]
+        out.append([(f"{pad} = ", _FRAME), (f"{kind}:", _BOLD), (f" {first}", None)])
+        indent = " " * (len(kind) + 2)
+        out += [[(f"{pad}   {indent}{more}", None)] for more in rest]
+    return out
+
+
+def _plural(n: int, word: str) -> str:
+    return f"{n} {word}" if n == 1 else f"{n} {word}s"
+
+
+def summary(results: Sequence[Any]) -> str:
+    """`error: 2 errors, 1 warning emitted`, or "" when there is nothing to report."""
+    counts = {s: 0 for s in Severity}
+    for _source, diagnostics in _pairs(results):
+        for d in diagnostics:
+            counts[d.severity] += 1
+    parts = []
+    if counts[Severity.ERROR]:
+        parts.append(_plural(counts[Severity.ERROR], "error"))
+    if counts[Severity.WARNING]:
+        parts.append(_plural(counts[Severity.WARNING], "warning"))
+    if counts[Severity.INFO]:
+        parts.append(_plural(counts[Severity.INFO], "info message"))
+    if not parts:
+        return ""
+    worst = min((s for s in Severity if counts[s]), key=lambda s: s.rank)
+    return f"{worst.value}: {', '.join(parts)} emitted"
+
+
+def _summary_line(results: Sequence[Any]) -> _Line:
+    text = summary(results)
+    word, _, rest = text.partition(":")
+    return [(word, _SEVERITY_STYLE[Severity(word)]), (":" + rest, _BOLD)]
+
+
+def render_text(results: Sequence[Any], *, color: bool = False) -> str:
+    """rustc-style text. With `color`, ANSI colours made by rich; without it, plain text and
+    rich is not imported."""
+    lines: list[_Line] = []
+    for source, diagnostics in _pairs(results):
+        for d in diagnostics:
+            lines += _diagnostic_lines(source, d)
+            lines.append([])
+    if lines:
+        lines.append(_summary_line(results))
+    if not color:
+        return "".join("".join(text for text, _style in line) + "\n" for line in lines)
+    return _colour(lines)
+
+
+def _colour(lines: list[_Line]) -> str:
+    import io
+
+    from rich.console import Console
+    from rich.text import Text
+
+    buffer = io.StringIO()
+    # Explicit settings, so the result depends on nothing but the lines: standard ANSI
+    # colours, no wrapping, no markup or emoji codes read from the user's text.
+    console = Console(file=buffer, force_terminal=True, color_system="standard", no_color=False,
+                      width=1_000_000, soft_wrap=True, highlight=False, markup=False, emoji=False,
+                      legacy_windows=False)
+    for line in lines:
+        text = Text(no_wrap=True)
+        for piece, style in line:
+            text.append(piece, style)
+        console.print(text)
+    return buffer.getvalue()
+
+
+# ---------------------------------------------------------------------------------------------
+# json
+
+
+def _region(source: SourceFile, span: Span) -> dict[str, int]:
+    a = source.position(span.start)
+    b = source.position(span.end)
+    return {"line": a.line, "column": a.column, "end_line": b.line, "end_column": b.column}
+
+
+def diagnostic_record(source: SourceFile, d: Diagnostic) -> dict[str, Any]:
+    """One diagnostic as the JSON object of `scriptc lint --format json`."""
+    record: dict[str, Any] = {
+        "code": d.code,
+        "name": _code_name(d.code),
+        "severity": d.severity.value,
+        "message": d.message,
+        "file": source.path,
+        **_region(source, d.span),
+        "labels": [{"message": label.message, **_region(source, label.span)}
+                   for label in d.labels],
+        "notes": list(d.notes),
+        "help": d.help,
+        "fix": None if d.fix is None else {
+            "message": d.fix.message,
+            "safe": d.fix.safe,
+            "edits": [{**_region(source, e.span), "new_text": e.new_text} for e in d.fix.edits],
+        },
+    }
+    if d.path is not None:
+        record["path"] = d.path
+    return record
+
+
+def render_json(results: Sequence[Any]) -> str:
+    import json
+
+    records = [diagnostic_record(source, d) for source, ds in _pairs(results) for d in ds]
+    return json.dumps(records, indent=2, ensure_ascii=False) + "\n"
+
+
+# ---------------------------------------------------------------------------------------------
+# sarif
+
+SARIF_SCHEMA = "https://json.schemastore.org/sarif-2.1.0.json"
+# FIXME: the project has no public home yet; set this (and pyproject's urls) when it does.
+INFORMATION_URI = "https://github.com/scriptc/scriptc"
+_SARIF_LEVEL = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "note"}
+
+
+def artifact_uri(path: str) -> str:
+    """A SARIF artifact URI for a shown path: relative paths stay relative (forward slashes,
+    percent-encoded), absolute ones are made relative to the working folder when inside it
+    and become `file://` URIs otherwise."""
+    import os
+    from pathlib import Path
+    from urllib.parse import quote
+
+    if os.path.isabs(path):
+        try:
+            path = os.path.relpath(path)
+        except ValueError:  # another drive on Windows
+            return Path(path).as_uri()
+        if path.startswith(".."):
+            return Path(os.path.abspath(path)).as_uri()
+    return quote(path.replace(os.sep, "/").replace("\\", "/"), safe="/")
+
+
+def _section(markdown: str, title: str) -> str:
+    """The text of `## title` in an explanation, or ""."""
+    lines = markdown.splitlines()
+    for i, line in enumerate(lines):
+        if line.strip().lower() == f"## {title}".lower():
+            body = []
+            for more in lines[i + 1:]:
+                if more.startswith("## "):
+                    break
+                body.append(more)
+            return "\n".join(body).strip()
+    return ""
+
+
+def _sarif_region(source: SourceFile, span: Span) -> dict[str, int]:
+    r = _region(source, span)
+    return {"startLine": r["line"], "startColumn": r["column"],
+            "endLine": r["end_line"], "endColumn": r["end_column"]}
+
+
+def _sarif_rule(code: str) -> dict[str, Any]:
+    from scriptc.diagnostics.codes import explanation
+
+    entry = _code_entry(code)
+    if entry is None:
+        return {"id": code}
+    long = explanation(code)
+    rule: dict[str, Any] = {
+        "id": code,
+        "name": entry.name,
+        "shortDescription": {"text": entry.summary},
+        "fullDescription": {"text": _section(long, "What it means") or entry.summary},
+        "defaultConfiguration": {"level": _SARIF_LEVEL[entry.severity]},
+    }
+    if long:
+        rule["help"] = {"text": long, "markdown": long}
+    return rule
+
+
+def render_sarif(results: Sequence[Any]) -> str:
+    import json
+
+    from scriptc import __version__
+
+    pairs = _pairs(results)
+    codes = sorted({d.code for _source, ds in pairs for d in ds})
+    index = {code: i for i, code in enumerate(codes)}
+    sarif_results = []
+    for source, diagnostics in pairs:
+        uri = artifact_uri(source.path)
+
+        def location(span: Span, message: str | None = None) -> dict[str, Any]:
+            loc: dict[str, Any] = {"physicalLocation": {
+                "artifactLocation": {"uri": uri}, "region": _sarif_region(source, span)}}
+            if message is not None:
+                loc["message"] = {"text": message}
+            return loc
+
+        for d in diagnostics:
+            result: dict[str, Any] = {
+                "ruleId": d.code,
+                "ruleIndex": index[d.code],
+                "level": _SARIF_LEVEL[d.severity],
+                "message": {"text": d.message},
+                "locations": [location(d.span)],
+            }
+            if d.path is not None:
+                result["locations"][0]["logicalLocations"] = [
+                    {"fullyQualifiedName": d.path, "kind": "element"}]
+            if d.labels:
+                result["relatedLocations"] = [{"id": i, **location(label.span, label.message)}
+                                              for i, label in enumerate(d.labels)]
+            if d.fix is not None:
+                result["fixes"] = [{
+                    "description": {"text": d.fix.message},
+                    "artifactChanges": [{
+                        "artifactLocation": {"uri": uri},
+                        "replacements": [{"deletedRegion": _sarif_region(source, e.span),
+                                          "insertedContent": {"text": e.new_text}}
+                                         for e in d.fix.edits],
+                    }],
+                }]
+            properties = {}
+            if d.notes:
+                properties["notes"] = list(d.notes)
+            if d.help:
+                properties["help"] = d.help
+            if properties:
+                result["properties"] = properties
+            sarif_results.append(result)
+    log = {
+        "$schema": SARIF_SCHEMA,
+        "version": "2.1.0",
+        "runs": [{
+            "tool": {"driver": {
+                "name": "scriptc",
+                "version": __version__,
+                "informationUri": INFORMATION_URI,
+                "rules": [_sarif_rule(code) for code in codes],
+            }},
+            # Our columns count code points, not SARIF's default UTF-16 code units.
+            "columnKind": "unicodeCodePoints",
+            "results": sarif_results,
+        }],
+    }
+    return json.dumps(log, indent=2, ensure_ascii=False) + "\n"
+
+
+# ---------------------------------------------------------------------------------------------
+# github
+
+_GITHUB_COMMAND = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "notice"}
+
+
+def _escape_data(text: str) -> str:
+    # GitHub's workflow-command rules (toolkit `escapeData`): `%` first, then line breaks.
+    return text.replace("%", "%25").replace("\r", "%0D").replace("\n", "%0A")
+
+
+def _escape_property(text: str) -> str:
+    # Property values also escape the `:` and `,` that delimit properties (`escapeProperty`).
+    return _escape_data(text).replace(":", "%3A").replace(",", "%2C")
+
+
+def render_github(results: Sequence[Any]) -> str:
+    out = []
+    for source, diagnostics in _pairs(results):
+        path = source.path.replace("\\", "/")
+        for d in diagnostics:
+            r = _region(source, d.span)
+            properties = ",".join(f"{key}={_escape_property(str(value))}" for key, value in (
+                ("file", path), ("line", r["line"]), ("col", r["column"]),
+                ("endLine", r["end_line"]), ("endColumn", r["end_column"]), ("title", d.code)))
+            message = "\n".join([d.message, *(f"note: {n}" for n in d.notes),
+                                 *([f"help: {d.help}"] if d.help else [])])
+            out.append(f"::{_GITHUB_COMMAND[d.severity]} {properties}::{_escape_data(message)}\n")
+    return "".join(out)
+
+
+RENDERERS: dict[str, Callable[..., str]] = {
+    "text": render_text,
+    "json": render_json,
+    "sarif": render_sarif,
+    "github": render_github,
+}
+FORMATS = tuple(RENDERERS)
+
+
+def render(format: str, results: Sequence[Any], *, color: bool = False) -> str:
+    """Render with the renderer named `format`; `color` only matters for text."""
+    if format == "text":
+        return render_text(results, color=color)
+    return RENDERERS[format](results)

@@ -1,0 +1,581 @@
+"""Lowering: lark trees of the items of a script -> the typed IR, with exact spans.
+
+The grammar is flat (a list of items); lowering assembles the hierarchy Script > Goal >
+Action > Block and reports what is out of place (S codes), reads the comma-separated fields
+of command strings into Numbers (V001, V002), resolves string escapes (P006) and lowers
+conditions. It never raises: a broken part is reported and left out.
+
+Entry points: `lower_script(source)` for script syntax, `parse_condition(text, base)` for a
+condition on its own (thesis JSON's `toparse`).
+"""
+
+from __future__ import annotations
+
+import difflib
+import re
+
+from lark import Token, Tree
+
+from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit, diagnostic
+from scriptc.ir import nodes as ir
+from scriptc.ir.values import read_number
+from scriptc.source import SourceFile, Span
+from scriptc.syntax.parser import parse_condition_tree, parse_items
+
+MOVE_FIELDS = ("v_x", "v_y", "v_theta", "wait_t", "duration")
+LED_FIELDS = ("r", "g", "b", "turnas", "wait_t", "duration")
+AUDIO_FIELDS = ("track_path", "wait_t", "duration")
+RULE_FIELDS = ("rulecode", "id", "intopic", "outtopic", "action", "mutex")
+TRACKS = ("MV", "LD", "AO")
+_ESCAPE = re.compile(r"\\(.)", re.DOTALL)
+_TRUE_EVAL = re.compile(r"\{\s*TRUE\s*\}")
+
+
+def _kind(node: Tree | Token) -> str:
+    """A rule or terminal name without the namespace lark adds to imported grammars."""
+    name = node.data if isinstance(node, Tree) else node.type
+    return str(name).rsplit("__", 1)[-1]
+
+
+_PARENS = re.compile(r'"(?:\\.|[^"\\])*"|[()]')
+
+
+class _Lowerer:
+    """`text` is the text being lowered; it starts at offset `text_base` of its file (0 for a
+    script, the string's offset for a condition read from JSON). `base` is the offset of the
+    item being lowered: lark's token offsets are relative to it."""
+
+    def __init__(self, text: str, text_base: int = 0) -> None:
+        self.text = text
+        self.text_base = text_base
+        self.diagnostics: list[Diagnostic] = []
+        self.base = text_base
+
+    # -- leaves ---------------------------------------------------------------------------
+
+    def span(self, token: Token) -> Span:
+        return Span(self.base + token.start_pos, self.base + token.end_pos)
+
+    def tree_span(self, node: Tree | Token) -> Span:
+        """From the first to the last token under `node` (iterative: trees may be deep)."""
+        first = last = None
+        stack = [node]
+        while stack:
+            n = stack.pop()
+            if isinstance(n, Token):
+                if first is None or n.start_pos < first.start_pos:
+                    first = n
+                if last is None or n.end_pos > last.end_pos:
+                    last = n
+            elif isinstance(n, Tree):
+                stack.extend(n.children)
+        if first is None:
+            return Span(self.base, self.base)
+        return Span(self.base + first.start_pos, self.base + last.end_pos)
+
+    def name(self, token: Token, strip: int = 0) -> ir.Name:
+        s = self.span(token)
+        return ir.Name(str(token)[strip:], Span(s.start + strip, s.end))
+
+    def string(self, token: Token) -> ir.Text:
+        """A string literal's value; unknown escapes are reported and kept as written."""
+        raw = str(token)[1:-1]
+        span = self.span(token)
+        if "\\" not in raw:
+            return ir.Text(raw, span)
+
+        def unescape(m: re.Match) -> str:
+            ch = m.group(1)
+            if ch in '\\"':
+                return ch
+            at = span.start + 1 + m.start()
+            self.diagnostics.append(
+                diagnostic(
+                    "P006",
+                    f"unknown escape `\\{ch}` in a string",
+                    Span(at, at + 2),
+                    help="strings know two escapes, `\\\\` (a backslash) and `\\\"` (a quote); "
+                    f"write `\\\\{ch}` for a backslash followed by `{ch}`",
+                    fix=Fix("escape the backslash", (TextEdit(Span(at, at + 1), "\\\\"),)),
+                )
+            )
+            return m.group(0)
+
+        return ir.Text(_ESCAPE.sub(unescape, raw), span)
+
+    # -- the script -----------------------------------------------------------------------
+
+    def script(self, source: SourceFile) -> ir.Script | None:
+        parsed = parse_items(source.text)
+        self.diagnostics.extend(parsed.diagnostics)
+        name: ir.Name | None = None
+        alfa: list[ir.RuleMessage] = []
+        omega: list[ir.RuleMessage] = []
+        goals: list[tuple[ir.Name, Span, list]] = []  # (id, span, actions)
+        actions: list[tuple[Span, list]] | None = None  # actions of the current goal
+        blocks: list | None = None  # blocks of the current action
+        first = True
+        for item in parsed.items:
+            self.base = item.base
+            tree = item.tree
+            kind = _kind(tree)
+            if first:
+                first = False
+                if kind == "name_item" and str(tree.children[0]) != "action":
+                    name = self.name(tree.children[0])
+                    continue
+                self.diagnostics.append(
+                    diagnostic(
+                        "S001",
+                        "a script must start with its activity name",
+                        Span(item.span.start, item.span.start),
+                        help="add `[activityname]` as the first item, e.g. `[greeting]`",
+                        fix=Fix("add an activity name", (TextEdit(Span(0, 0), "[activity]\n"),), safe=False),
+                    )
+                )
+            if kind == "name_item":
+                word = tree.children[0]
+                if str(word) == "action":
+                    if actions is None:
+                        self._orphan(item.span, "`[action]`", "`[goal:ID]`")
+                        blocks = None
+                        continue
+                    blocks = []
+                    actions.append((item.span, blocks))
+                else:
+                    self._unknown_item(word, item.span)
+            elif kind == "rule_message":
+                message = self.rule_message(tree, item.span)
+                if message is None:
+                    continue
+                if goals:
+                    self._misplaced(item.span, f"{message.kind} messages", "before the first goal", goals[0][1])
+                if message.kind == "alfa":
+                    if omega:
+                        self._misplaced(item.span, "alfa messages", "before the omega messages", omega[0].span)
+                    alfa.append(message)
+                else:
+                    omega.append(message)
+            elif kind == "goal_item":
+                token = tree.children[0]
+                if token is None:
+                    self.diagnostics.append(
+                        diagnostic("S007", "goal without an id", item.span, help="name the goal: `[goal:greet]`")
+                    )
+                    goal_id = ir.Name("", item.span)
+                else:
+                    goal_id = self.name(token)
+                actions = []
+                blocks = None
+                goals.append((goal_id, item.span, actions))
+            elif kind == "block":
+                block = self.block(tree, item.span)
+                if blocks is None:
+                    if actions is None:
+                        self._orphan(item.span, "a block", "`[goal:ID]` and `[action]`")
+                    else:
+                        self._orphan(item.span, "a block", "`[action]`", insert="[action]")
+                    continue
+                if block is not None:
+                    blocks.append(block)
+        if first:  # no item at all
+            end = len(source.text)
+            self.diagnostics.append(
+                diagnostic(
+                    "S001",
+                    "the file holds no script" if not source.text.strip() else "the file holds no item",
+                    Span(0, min(end, 1) if source.text.strip() else 0),
+                    help="a script starts with `[activityname]`, then `[goal:ID]`, `[action]` and blocks",
+                )
+            )
+            return None
+        if name is None:
+            name = ir.Name("", Span(0, 0))
+        if not goals and name.text:
+            self.diagnostics.append(
+                diagnostic(
+                    "S004",
+                    f"script `{name.text}` has no goal",
+                    name.span,
+                    help="add `[goal:ID]`, `[action]` and at least one block",
+                )
+            )
+        built_goals = []
+        for goal_id, goal_span, goal_actions in goals:
+            if not goal_actions:
+                self.diagnostics.append(
+                    diagnostic("S005", f"goal `{goal_id.text}` has no action", goal_span,
+                               help="add `[action]` and its blocks after the goal")
+                )
+            built_actions = []
+            for action_span, action_blocks in goal_actions:
+                if not action_blocks:
+                    self.diagnostics.append(
+                        diagnostic("S006", "action has no block", action_span,
+                                   help="add a block, e.g. `[b##blk_terminus]`, or remove the action")
+                    )
+                built_actions.append(ir.Action(tuple(action_blocks), action_span))
+            built_goals.append(ir.Goal(goal_id, tuple(built_actions), goal_span))
+        return ir.Script(name, tuple(alfa), tuple(omega), tuple(built_goals), Span(0, len(source.text)))
+
+    def _orphan(self, span: Span, what: str, needs: str, insert: str | None = None) -> None:
+        fix = None
+        if insert:
+            fix = Fix(f"add `{insert}` before it", (TextEdit(Span(span.start, span.start), insert + "\n"),), safe=False)
+        self.diagnostics.append(
+            diagnostic("S002", f"{what} must come after {needs}", span,
+                       help=f"add {needs} before it", fix=fix)
+        )
+
+    def _misplaced(self, span: Span, what: str, where: str, other: Span) -> None:
+        self.diagnostics.append(
+            diagnostic("S002", f"{what} must come {where}", span,
+                       labels=(Label(other, "this comes first"),),
+                       help="move the item up")
+        )
+
+    def _unknown_item(self, word: Token, span: Span) -> None:
+        text = str(word)
+        close = difflib.get_close_matches(text, ["action"], n=1, cutoff=0.6)
+        fix = None
+        help_ = "the items are `[activityname]` (first), `[alfa:...]`, `[omega:...]`, `[goal:ID]`, `[action]` and blocks `[b#LABEL#...]`"
+        if close:
+            help_ = f"did you mean `[{close[0]}]`?"
+            fix = Fix(f"replace with `{close[0]}`", (TextEdit(self.span(word), close[0]),))
+        self.diagnostics.append(
+            diagnostic("S003", f"unknown item `[{text}]`", span, help=help_, fix=fix,
+                       notes=("only the first item names the activity",))
+        )
+
+    # -- rule messages --------------------------------------------------------------------
+
+    def rule_message(self, tree: Tree, span: Span) -> ir.RuleMessage | None:
+        kind_token, *fields = tree.children
+        kind = str(kind_token)
+        fields = [f for f in fields if f is not None]
+        if len(fields) != 6:
+            self.diagnostics.append(
+                diagnostic(
+                    "S009",
+                    f"{kind} message has {len(fields)} field{'s' if len(fields) != 1 else ''}, expected 6",
+                    span,
+                    notes=(f"the fields are {', '.join(RULE_FIELDS)}",),
+                    help=f'write `[{kind}:RULECODE, ID, "INTOPIC", "OUTTOPIC", ACTION, MUTEX]`, e.g. '
+                    f'`[{kind}:0, kick_starter, "", "", C, U]`',
+                )
+            )
+            return None
+        rulecode_t, id_t, in_t, out_t, action_t, mutex_t = fields
+        ok = True
+        expected_types = (("NUMBER",), ("NAME",), ("STRING",), ("STRING",), ("NAME",), ("NAME",))
+        for field_name, token, types in zip(RULE_FIELDS, fields, expected_types):
+            if _kind(token) not in types:
+                if field_name == "rulecode":
+                    _, problem = read_number(str(token), self.span(token), "the rulecode")
+                    if problem is not None:
+                        self.diagnostics.append(problem)
+                        ok = False
+                        continue
+                want = {"NUMBER": "a number", "NAME": "a name", "STRING": "a string"}[types[0]]
+                self.diagnostics.append(
+                    diagnostic(
+                        "S009",
+                        f"the {field_name} of a rule message is {want}, found `{token}`",
+                        self.span(token),
+                        help=('topics are quoted: `""` for none' if types[0] == "STRING"
+                              else f"write the {field_name} without quotes"),
+                    )
+                )
+                ok = False
+        if not ok:
+            return None
+        return ir.RuleMessage(
+            kind=kind,
+            rulecode=ir.Number(str(rulecode_t), self.span(rulecode_t)),
+            id=self.name(id_t),
+            intopic=self.string(in_t),
+            outtopic=self.string(out_t),
+            action=self.name(action_t),
+            mutex=self.name(mutex_t),
+            span=span,
+        )
+
+    # -- blocks ---------------------------------------------------------------------------
+
+    def block(self, tree: Tree, span: Span) -> ir.Block | None:
+        label_t, body = tree.children
+        label = self.name(label_t) if label_t is not None else None
+        kind = _kind(body)
+        if kind == "inst_body":
+            return self.instruction(label, body, span)
+        if kind == "jump_body":
+            cond_tree, true_t, false_t = body.children
+            cond_span = self._cnd_span(span)
+            condition = self.condition(cond_tree, cond_span)
+            return ir.JumpBlock(
+                label=label,
+                condition=condition,
+                true_target=self.name(true_t) if true_t is not None else None,
+                false_target=self.name(false_t) if false_t is not None else None,
+                span=span,
+                condition_text=self._text(cond_span),
+            )
+        if kind == "terminus_body":
+            return ir.TerminusBlock(label, span)
+        # sensor_body
+        payload = tuple(self.string(t) for t in body.children[1:] if t is not None)
+        return ir.SensorBlock(label, payload, span)
+
+    def instruction(self, label: ir.Name | None, body: Tree, span: Span) -> ir.InstructionBlock:
+        tracks: dict[str, list] = {"MV": [], "LD": [], "AO": []}
+        seen: list[tuple[str, Span]] = []
+        for track in body.children:
+            name_t, *strings = track.children
+            track_name = str(name_t)
+            seen.append((track_name, Span(self.span(name_t).start, self.tree_span(track).end + 1)))
+            for token in strings:
+                if token is None:
+                    continue
+                command = self.command(track_name, token)
+                if command is not None:
+                    tracks[track_name].append(command)
+        self._check_tracks(seen, body, span)
+        return ir.InstructionBlock(label, tuple(tracks["MV"]), tuple(tracks["LD"]), tuple(tracks["AO"]), span)
+
+    def _check_tracks(self, seen: list[tuple[str, Span]], body: Tree, span: Span) -> None:
+        names = [n for n, _ in seen]
+        if names == list(TRACKS):
+            return
+        for i, (n, s) in enumerate(seen):
+            if n in names[:i]:
+                self.diagnostics.append(
+                    diagnostic("S008", f"`{n}()` appears twice in this block", s,
+                               labels=(Label(seen[names.index(n)][1], "first here"),),
+                               help=f"merge the commands into one `{n}(...)`")
+                )
+                return
+        order = [n for n in names if n in TRACKS]
+        if order != sorted(order, key=TRACKS.index):
+            self.diagnostics.append(
+                diagnostic("S008", f"tracks are written `MV() LD() AO()` in this order, found `{' '.join(n + '()' for n in names)}`",
+                           Span(seen[0][1].start, seen[-1][1].end),
+                           help="reorder the tracks")
+            )
+            return
+        missing = [n for n in TRACKS if n not in names]
+        # Insert each missing track before the first present track that follows it.
+        edits = []
+        for n in missing:
+            after = [s for m, s in seen if TRACKS.index(m) > TRACKS.index(n)]
+            at = after[0].start if after else (seen[-1][1].end if seen else span.end - 1)
+            text = f"{n}() " if after else f" {n}()"
+            edits.append(TextEdit(Span(at, at), text))
+        listed = ", ".join(f"`{n}()`" for n in missing)
+        where = Span(span.end - 1, span.end)
+        self.diagnostics.append(
+            diagnostic("S008", f"instruction block without {listed}", where,
+                       notes=("every instruction block lists `MV()`, `LD()` and `AO()`, each possibly empty",),
+                       help=f"add {listed}",
+                       fix=Fix(f"add {listed}", tuple(edits)))
+        )
+
+    def command(self, track: str, token: Token) -> ir.Command | None:
+        """Split a command string into its fields, each with its own span."""
+        text = self.string(token)
+        raw = str(token)[1:-1]
+        start = self.span(token).start + 1
+        if "\\" in raw:
+            # Fields of a string with escapes cannot be located exactly: use the whole string.
+            fields = [(f.strip(), self.span(token)) for f in text.value.split(",")]
+        else:
+            fields = []
+            pos = 0
+            for part in raw.split(","):
+                lead = len(part) - len(part.lstrip())
+                stripped = part.strip()
+                at = start + pos + lead
+                fields.append((stripped, Span(at, at + len(stripped))))
+                pos += len(part) + 1
+        whole = self.span(token)
+        if track == "AO":
+            names = AUDIO_FIELDS
+            if len(fields) >= 3:
+                path_fields = fields[:-2]
+                path_text = ",".join(f for f, _ in path_fields) if "\\" in raw else None
+                if path_text is None:
+                    p0, p1 = path_fields[0][1].start, path_fields[-1][1].end
+                    path_text = self.text[p0:p1]
+                    path = ir.Text(path_text, Span(p0, p1))
+                else:
+                    path = ir.Text(path_text, whole)
+                fields = [(path.value, path.span)] + fields[-2:]
+        else:
+            names = MOVE_FIELDS if track == "MV" else LED_FIELDS
+        if len(fields) != len(names) or (len(fields) == 1 and not fields[0][0]):
+            what = {"MV": "move", "LD": "led", "AO": "audio"}[track]
+            count = 0 if len(fields) == 1 and not fields[0][0] else len(fields)
+            self.diagnostics.append(
+                diagnostic("V001", f"{what} command has {count} field{'s' if count != 1 else ''}, expected {len(names)}",
+                           whole, notes=(f"a {what} command is `\"{', '.join(names)}\"`",))
+            )
+            return None
+        numbers = []
+        for (value, fspan), fname in zip(fields, names):
+            if fname == "track_path":
+                continue
+            number, problem = read_number(value, fspan, f"`{fname}`")
+            if problem is not None:
+                self.diagnostics.append(problem)
+                return None
+            numbers.append(number)
+        if track == "MV":
+            return ir.MoveCommand(*numbers, span=whole)
+        if track == "LD":
+            return ir.LedCommand(*numbers, span=whole)
+        return ir.AudioCommand(ir.Text(fields[0][0], fields[0][1]), *numbers, span=whole)
+
+    # -- conditions -----------------------------------------------------------------------
+
+    def _text(self, span: Span) -> str:
+        return self.text[span.start - self.text_base : span.end - self.text_base]
+
+    def _cnd_span(self, item: Span) -> Span:
+        """The condition between `CND(` and its matching `)`, trimmed (the parenthesis and the
+        braces are anonymous in the grammar, so the tree does not know where they are)."""
+        tb = self.text_base
+        at = self.text.find("(", self.text.find("CND", item.start - tb)) + 1
+        depth = 1
+        for m in _PARENS.finditer(self.text, at, item.end - tb):
+            if m.group() == "(":
+                depth += 1
+            elif m.group() == ")":
+                depth -= 1
+                if depth == 0:
+                    inner = self.text[at : m.start()]
+                    lead = len(inner) - len(inner.lstrip())
+                    return Span(tb + at + lead, tb + at + len(inner.rstrip()))
+        return item
+
+    def _enclose(self, span: Span, open_: str, close: str) -> Span:
+        """Widen `span` to the `open_` before it and the `close` after it (the anonymous
+        punctuation around an assignment, an evaluation or a call's arguments)."""
+        tb = self.text_base
+        start = self.text.rfind(open_, 0, span.start - tb)
+        end = self.text.find(close, span.end - tb)
+        return Span(tb + start if start != -1 else span.start, tb + end + 1 if end != -1 else span.end)
+
+    def condition(self, tree: Tree, span: Span) -> ir.Condition:
+        kind = _kind(tree)
+        if kind == "true_condition":
+            return ir.Condition((), (), span, bare_true=True)
+        assignments = []
+        evaluations = []
+        for child in tree.children:
+            k = _kind(child)
+            if k == "class_assignment":
+                class_t, scope_t, alias_t, *tests = child.children
+                assignments.append(
+                    ir.ClassAssignment(
+                        class_name=self.name(class_t, strip=1),
+                        scope=self.name(scope_t),
+                        alias=self.alias(alias_t),
+                        tests=tuple(self.test(t) for t in tests if t is not None),
+                        span=self._enclose(self.tree_span(child), "{", "}"),
+                    )
+                )
+            elif k == "var_assignment":
+                var_t, scope_t, f_call = child.children
+                assignments.append(
+                    ir.VarAssignment(
+                        var=ir.VarRef(self.name(var_t), self.span(var_t)),
+                        scope=self.name(scope_t),
+                        call=self.call(f_call.children[0], "F"),
+                        span=self._enclose(self.tree_span(child), "{", "}"),
+                    )
+                )
+            elif k == "att_assignment":
+                alias_node, att_t, scope_t, f_call = child.children
+                assignments.append(
+                    ir.AttAssignment(
+                        alias=self.value(alias_node),
+                        att=self.name(att_t),
+                        scope=self.name(scope_t),
+                        call=self.call(f_call.children[0], "F"),
+                        span=self._enclose(self.tree_span(child), "{", "}"),
+                    )
+                )
+            elif k == "e_evaluation":
+                evaluations.append(
+                    ir.CallEvaluation(self.call(child.children[0], "E"), self._enclose(self.tree_span(child), "{", "}"))
+                )
+            elif k == "true_evaluation":
+                # `{TRUE}` has no token in the tree: find it after what came before it.
+                after = evaluations[-1].span.end if evaluations else (
+                    assignments[-1].span.end if assignments else span.start)
+                evaluations.append(ir.TrueEvaluation(self._find(_TRUE_EVAL, Span(after, span.end))))
+        return ir.Condition(tuple(assignments), tuple(evaluations), span)
+
+    def _find(self, pattern: re.Pattern, within: Span) -> Span:
+        tb = self.text_base
+        m = pattern.search(self.text, within.start - tb, within.end - tb)
+        return Span(tb + m.start(), tb + m.end()) if m else within
+
+    def test(self, node: Tree) -> ir.Test:
+        k = _kind(node)
+        if k == "field_test":
+            _this, _access, field_t, op_t, value = node.children
+            return ir.FieldTest(self.name(field_t), self.name(op_t), self.value(value), self.tree_span(node))
+        call = self.call(node.children[0], "B")
+        start = self.text.rfind("B", 0, call.span.start - self.text_base)
+        return ir.CallTest(call, Span(self.text_base + start if start != -1 else call.span.start, call.span.end))
+
+    def call(self, node: Tree, kind: str) -> ir.Call:
+        name_t, *args = node.children
+        values = tuple(self.value(a) for a in args if a is not None)
+        span = self.tree_span(node)
+        end = self.text.find(")", span.end - self.text_base)
+        if end != -1:
+            span = Span(span.start, self.text_base + end + 1)
+        return ir.Call(kind, self.name(name_t), values, span)
+
+    def alias(self, token: Token) -> ir.AliasRef:
+        return ir.AliasRef(self.name(token), self.span(token))
+
+    def value(self, node: Tree | Token) -> ir.Value:
+        k = _kind(node)
+        if k == "number":
+            t = node.children[0]
+            return ir.NumberValue(ir.Number(str(t), self.span(t)))
+        if k == "string":
+            return ir.StringValue(self.string(node.children[0]))
+        if k in ("alias", "this"):
+            return self.alias(node.children[0])
+        if k == "field_ref":
+            alias_node, _access, field_t = node.children
+            return ir.FieldRef(self.value(alias_node), self.name(field_t), self.tree_span(node))
+        if k == "att_ref":
+            alias_node, _access, att_t = node.children
+            return ir.AttRef(self.value(alias_node), self.name(att_t), self.tree_span(node))
+        if k == "var_ref":
+            t = node.children[0]
+            return ir.VarRef(self.name(t), self.span(t))
+        raise AssertionError(f"unknown value node {k}")
+
+
+def lower_script(source: SourceFile) -> tuple[ir.Script | None, list[Diagnostic]]:
+    """Parse and lower a whole script. The script is None only when the file holds no item."""
+    lowerer = _Lowerer(source.text)
+    script = lowerer.script(source)
+    return script, lowerer.diagnostics
+
+
+def parse_condition(text: str, base: int = 0) -> tuple[ir.Condition | None, list[Diagnostic]]:
+    """Parse and lower one condition; spans are offset by `base` (where `text` starts in its
+    file)."""
+    tree, diagnostics = parse_condition_tree(text, base)
+    if tree is None:
+        return None, diagnostics
+    lowerer = _Lowerer(text, text_base=base)
+    lead = len(text) - len(text.lstrip())
+    condition = lowerer.condition(tree, Span(base + lead, base + len(text.rstrip())))
+    return condition, diagnostics + lowerer.diagnostics

@@ -1,0 +1,40 @@
+"""Reading numbers and text the same way from script syntax and from thesis JSON.
+
+Both front ends (lowering of the script syntax and the thesis JSON reader) turn the text of a
+field into a `Number` here, so "is this a number" has one answer everywhere.
+"""
+
+from __future__ import annotations
+
+import re
+
+from scriptc.diagnostics.model import Diagnostic, diagnostic
+from scriptc.ir.nodes import Number
+from scriptc.source import Span
+
+# LANGUAGE.md: decimal, optional sign and fraction. An exponent is accepted too (C++'s stof,
+# which read these fields on the robot, accepts it); ranges are checked by the checker.
+NUMBER_RE = re.compile(r"[+-]?(\d+(\.\d*)?|\.\d+)([eE][+-]?\d+)?")
+_NON_FINITE = re.compile(r"[+-]?(nan|inf|infinity)", re.IGNORECASE)
+
+
+def read_number(text: str, span: Span, what: str) -> tuple[Number, Diagnostic | None]:
+    """`text` (already trimmed) as a Number; a diagnostic when it is not one. `what` names
+    the field for the message ("`v_x`", "the rulecode")."""
+    number = Number(text, span)
+    if NUMBER_RE.fullmatch(text):
+        return number, None
+    if _NON_FINITE.fullmatch(text):
+        return number, diagnostic(
+            "V003",
+            f"{what} is `{text}`, which is not a finite number",
+            span,
+            help="write a finite decimal number such as `0.5`",
+        )
+    shown = text if text else "nothing"
+    return number, diagnostic(
+        "V002",
+        f"{what} must be a number, found `{shown}`" if text else f"{what} is missing",
+        span,
+        help="write a decimal number such as `0`, `1000` or `-0.25`",
+    )

@@ -1,0 +1,223 @@
+"""Parsing with the lark grammars of grammar/: per item for scripts, whole for conditions.
+
+`parse_items(text)` scans the text into items (scan.py), parses each one with the `item` start
+symbol of grammar/script.lark, and returns the trees with their offsets plus diagnostics. An
+item that does not parse is reported once, in words ("expected `)` to close `MV(`"), and
+skipped; the others are still parsed. `parse_condition_tree(text)` parses a condition alone
+(grammar/condition.lark), for the `toparse` strings of thesis JSON.
+
+Token offsets in the returned trees are relative to the item's text; `ParsedItem.base` is the
+item's offset in the file. Nothing here raises on bad input.
+"""
+
+from __future__ import annotations
+
+import difflib
+import re
+from dataclasses import dataclass
+from functools import cache
+
+from lark import Lark, Tree
+from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
+from lark.lexer import PatternStr
+
+from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit, diagnostic
+from scriptc.resources import grammar_path
+from scriptc.source import Span
+from scriptc.syntax.lexer import ContextualFastLexer
+from scriptc.syntax.scan import scan
+
+
+@dataclass(frozen=True, slots=True)
+class ParsedItem:
+    tree: Tree
+    base: int  # offset of the item's `[` in the file
+    span: Span  # the whole item in the file
+
+
+@dataclass(slots=True)
+class ParsedScript:
+    items: list[ParsedItem]
+    comments: list[Span]
+    diagnostics: list[Diagnostic]
+
+
+def _build(name: str, start: list[str]) -> Lark:
+    path = grammar_path(name)
+    return Lark(
+        path.read_text(encoding="utf-8"),
+        parser="lalr",
+        lexer=ContextualFastLexer,
+        start=start,
+        maybe_placeholders=True,
+        import_paths=[str(path.parent)],
+        source_path=str(path),
+        cache=True,
+    )
+
+
+@cache
+def script_parser() -> Lark:
+    return _build("script.lark", ["item"])
+
+
+@cache
+def condition_parser() -> Lark:
+    return _build("condition.lark", ["condition"])
+
+
+def parse_items(text: str) -> ParsedScript:
+    scanned = scan(text)
+    parser = script_parser()
+    items: list[ParsedItem] = []
+    diagnostics = list(scanned.diagnostics)
+    for raw in scanned.items:
+        if raw.broken:
+            continue
+        start, end = raw.span.start, raw.span.end
+        item_text = text[start:end] if raw.closed else text[start:end].rstrip() + "]"
+        try:
+            tree = parser.parse(item_text, start="item")
+        except UnexpectedInput as error:
+            if raw.closed:  # an unclosed item was reported already; don't pile on
+                diagnostics.append(describe(error, item_text, start, parser))
+            continue
+        items.append(ParsedItem(tree, start, raw.span))
+    return ParsedScript(items, scanned.comments, diagnostics)
+
+
+def parse_condition_tree(text: str, base: int = 0) -> tuple[Tree | None, list[Diagnostic]]:
+    parser = condition_parser()
+    try:
+        return parser.parse(text, start="condition"), []
+    except UnexpectedInput as error:
+        return None, [describe(error, text, base, parser)]
+
+
+# ---------------------------------------------------------------------------------------------
+# Error messages for people
+
+# How terminals are named in messages, by their name in the grammar (namespace stripped).
+_TERMINAL_WORDS = {
+    "NAME": "a name",
+    "NUMBER": "a number",
+    "STRING": "a string",
+    "ALIAS": "an alias such as `?kid`",
+    "THIS": "`?THIS`",
+    "CLASS_REF": "a class such as `#Human`",
+    "VAR_REF": "a variable such as `@count`",
+    "ATT_REF": "an attribute such as `$mood`",
+    "OPERATOR": "a comparison (`OP=`, `OP<` or `OP>`)",
+    "FIELD_ACCESS": "`>&`",
+    "ATT_ACCESS": "`>$`",
+    "$END": "the end of the text",
+}
+_OPENERS = {"(": ")", "{": "}", "[": "]"}
+_CLOSERS = {v: k for k, v in _OPENERS.items()}
+_SKIP = re.compile(r'"(?:\\.|[^"\\])*"?|%[^%]*%?|[()\[\]{}]')
+
+
+def _bare(name: str) -> str:
+    return name.rsplit("__", 1)[-1]
+
+
+def _words(parser: Lark, names) -> list[str]:
+    terminals = {t.name: t for t in parser.terminals}
+    words = set()
+    for name in names:
+        t = terminals.get(name)
+        if t is not None and isinstance(t.pattern, PatternStr):
+            words.add(f"`{t.pattern.value}`")
+        else:
+            words.add(_TERMINAL_WORDS.get(_bare(name), f"`{_bare(name).lower()}`"))
+    return sorted(words, key=lambda w: (not w.startswith("`"), w))
+
+
+def _join(words: list[str]) -> str:
+    if len(words) > 7:
+        words = words[:6] + ["..."]
+    if len(words) == 1:
+        return words[0]
+    return ", ".join(words[:-1]) + " or " + words[-1]
+
+
+def _open_delimiter(text: str, upto: int) -> tuple[int, str] | None:
+    """The innermost delimiter still open at `upto`: its offset and what it opens, e.g.
+    `MV(` (the word before a parenthesis is part of how people name it)."""
+    stack: list[int] = []
+    for m in _SKIP.finditer(text, 0, upto):
+        tok = m.group()
+        if tok in _OPENERS:
+            stack.append(m.start())
+        elif tok in _CLOSERS and stack and text[stack[-1]] == _CLOSERS[tok]:
+            stack.pop()
+    if not stack:
+        return None
+    at = stack[-1]
+    word = re.search(r"[A-Za-z_]*\s*$", text[:at]).group().strip()
+    return at, (word + text[at]) if text[at] == "(" else text[at]
+
+
+def describe(error: UnexpectedInput, text: str, base: int, parser: Lark) -> Diagnostic:
+    """One diagnostic for a lark error in `text` (which starts at `base` in the file)."""
+    terminals = {t.name for t in parser.terminals} | {"$END"}
+    if isinstance(error, UnexpectedToken):
+        # lark's expected set also names non-terminals (the parser's gotos): keep terminals.
+        expected = {n for n in error.expected if n in terminals}
+        token = error.token
+        if token.type == "$END":
+            at, found, shown = len(text), "", "the end of the text"
+        else:
+            at = token.start_pos if token.start_pos is not None else 0
+            found = str(token)
+            shown = f"`{found}`"
+        return _expected(parser, expected, text, base, at, found, shown)
+    if isinstance(error, UnexpectedCharacters):
+        at = error.pos_in_stream
+        ch = text[at] if at < len(text) else ""
+        expected = {n for n in error.allowed or () if n in terminals}
+        if ch in "<>=" and any(_bare(n) == "OPERATOR" for n in expected):
+            span = Span(base + at, base + at + 1)
+            return diagnostic(
+                "P001",
+                f"expected a comparison (`OP=`, `OP<` or `OP>`), found `{ch}`",
+                span,
+                help=f"comparisons are written `OP{ch}` in the rule grammar",
+                fix=Fix(f"write `OP{ch}`", (TextEdit(span, f"OP{ch}"),)),
+            )
+        if expected:
+            return _expected(parser, expected, text, base, at, ch, f"`{ch}`", code="P005")
+        return diagnostic("P005", f"unexpected character `{ch}`", Span(base + at, base + at + 1))
+    if isinstance(error, UnexpectedEOF):
+        return diagnostic("P001", "unexpected end of the text", Span(base + len(text), base + len(text)))
+    return diagnostic("P001", "syntax error", Span(base, base + len(text)))
+
+
+def _expected(parser, expected, text, base, at, found, shown, code="P001") -> Diagnostic:
+    span = Span(base + at, base + at + len(found))
+    bare = {_bare(n) for n in expected}
+    closers = {"RPAR": ")", "RBRACE": "}", "RSQB": "]"}
+    opened = _open_delimiter(text, at)
+    if opened is not None:
+        at_open, what = opened
+        closer = _OPENERS[text[at_open]]
+        if any(closers.get(b) == closer for b in bare):
+            others = [w for w in _words(parser, expected) if w != f"`{closer}`"]
+            help_ = f"add `{closer}`" + (f", or {_join(others)} if the list goes on" if others else "")
+            return diagnostic(
+                "P002",
+                f"expected `{closer}` to close `{what}`, found {shown}",
+                span,
+                labels=(Label(Span(base + at_open, base + at_open + 1), f"`{what}` opened here"),),
+                help=help_,
+            )
+    words = _words(parser, expected)
+    help_ = None
+    fix = None
+    if found:
+        keywords = [w.strip("`") for w in words if w.startswith("`")]
+        close = difflib.get_close_matches(found, keywords, n=1, cutoff=0.6)
+        if close:
+            help_ = f"did you mean `{close[0]}`?"
+            fix = Fix(f"replace with `{close[0]}`", (TextEdit(span, close[0]),), safe=False)
+    return diagnostic(code, f"expected {_join(words)}, found {shown}", span, help=help_, fix=fix)
