@@ -108,6 +108,9 @@ class _Lowerer:
     def script(self, source: SourceFile) -> ir.Script | None:
         parsed = parse_items(source.text)
         self.diagnostics.extend(parsed.diagnostics)
+        # When items were lost to syntax errors, "this goal has no action" and the like would
+        # report the loss again, not a mistake of the script's structure.
+        lost_items = bool(parsed.diagnostics)
         name: ir.Name | None = None
         alfa: list[ir.RuleMessage] = []
         omega: list[ir.RuleMessage] = []
@@ -150,12 +153,13 @@ class _Lowerer:
                     continue
                 if goals:
                     self._misplaced(item.span, f"{message.kind} messages", "before the first goal", goals[0][1])
+                elif message.kind == "alfa" and omega:
+                    self._misplaced(item.span, "alfa messages", "before the omega messages", omega[0].span)
                 if message.kind == "alfa":
-                    if omega:
-                        self._misplaced(item.span, "alfa messages", "before the omega messages", omega[0].span)
                     alfa.append(message)
                 else:
                     omega.append(message)
+
             elif kind == "goal_item":
                 token = tree.children[0]
                 if token is None:
@@ -191,7 +195,7 @@ class _Lowerer:
             return None
         if name is None:
             name = ir.Name("", Span(0, 0))
-        if not goals and name.text:
+        if not goals and name.text and not lost_items:
             self.diagnostics.append(
                 diagnostic(
                     "S004",
@@ -202,14 +206,14 @@ class _Lowerer:
             )
         built_goals = []
         for goal_id, goal_span, goal_actions in goals:
-            if not goal_actions:
+            if not goal_actions and not lost_items:
                 self.diagnostics.append(
                     diagnostic("S005", f"goal `{goal_id.text}` has no action", goal_span,
                                help="add `[action]` and its blocks after the goal")
                 )
             built_actions = []
             for action_span, action_blocks in goal_actions:
-                if not action_blocks:
+                if not action_blocks and not lost_items:
                     self.diagnostics.append(
                         diagnostic("S006", "action has no block", action_span,
                                    help="add a block, e.g. `[b##blk_terminus]`, or remove the action")
@@ -370,7 +374,7 @@ class _Lowerer:
             at = after[0].start if after else (seen[-1][1].end if seen else span.end - 1)
             text = f"{n}() " if after else f" {n}()"
             edits.append(TextEdit(Span(at, at), text))
-        listed = ", ".join(f"`{n}()`" for n in missing)
+        listed = " and ".join(f"`{n}()`" for n in missing)
         where = Span(span.end - 1, span.end)
         self.diagnostics.append(
             diagnostic("S008", f"instruction block without {listed}", where,

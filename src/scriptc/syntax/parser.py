@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import difflib
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cache
 
 from lark import Lark, Tree
@@ -26,6 +26,9 @@ from scriptc.resources import grammar_path
 from scriptc.source import Span
 from scriptc.syntax.lexer import ContextualFastLexer
 from scriptc.syntax.scan import scan
+
+
+MAX_SYNTAX_ERRORS = 100
 
 
 @dataclass(frozen=True, slots=True)
@@ -72,6 +75,8 @@ def parse_items(text: str) -> ParsedScript:
     items: list[ParsedItem] = []
     diagnostics = list(scanned.diagnostics)
     for raw in scanned.items:
+        if len(diagnostics) >= MAX_SYNTAX_ERRORS:
+            break
         if raw.broken:
             continue
         start, end = raw.span.start, raw.span.end
@@ -83,6 +88,11 @@ def parse_items(text: str) -> ParsedScript:
                 diagnostics.append(describe(error, item_text, start, parser))
             continue
         items.append(ParsedItem(tree, start, raw.span))
+    if len(diagnostics) > MAX_SYNTAX_ERRORS:
+        # 20,000 stray brackets are one problem to the person reading the report.
+        last = diagnostics[MAX_SYNTAX_ERRORS - 1]
+        note = f"scriptc stopped after {MAX_SYNTAX_ERRORS} syntax errors; fix these first"
+        diagnostics = diagnostics[: MAX_SYNTAX_ERRORS - 1] + [replace(last, notes=last.notes + (note,))]
     return ParsedScript(items, scanned.comments, diagnostics)
 
 
