@@ -183,6 +183,8 @@ class _Lowerer:
                 if block is not None:
                     blocks.append(block)
         if first:  # no item at all
+            if lost_items:
+                return None
             end = len(source.text)
             self.diagnostics.append(
                 diagnostic(

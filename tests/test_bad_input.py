@@ -1,0 +1,73 @@
+"""Hostile input: each gets diagnostics in bounded time, never an exception, a RecursionError
+or a hang (the CLI's own handling of bytes and paths is in test_cli.py)."""
+
+from __future__ import annotations
+
+import pytest
+
+from scriptc.driver import analyze_script
+from scriptc.ir.lower import parse_condition
+from scriptc.source import SourceFile
+
+HEAD = "[act]\n[goal:g]\n[action]\n"
+
+
+def codes(text: str) -> list[str]:
+    return [d.code for d in analyze_script(SourceFile("bad.script", text)).diagnostics]
+
+
+def test_twenty_thousand_nested_parentheses() -> None:
+    text = HEAD + "[b##blk_jump: CND(" + "(" * 20000 + ")" * 20000 + ") TRJMP() FLSJMP()]\n"
+    assert codes(text) == ["P001"]
+
+
+def test_twenty_thousand_nested_braces_in_a_condition() -> None:
+    cond, problems = parse_condition("{" * 20000 + "}" * 20000)
+    assert cond is None and [p.code for p in problems] == ["P001"]
+
+
+def test_twenty_thousand_open_brackets_are_capped() -> None:
+    found = codes("[" * 20000)
+    assert 0 < len(found) <= 100 and set(found) == {"P002"}
+
+
+def test_unclosed_everything() -> None:
+    assert codes('[act\n[goal:g\n[action\n[b##blk_inst: MV("1, 0') == ["P002", "P002", "P002", "P003"]
+
+
+@pytest.mark.parametrize("number", ["1e999", "-1e999", "1" * 400])
+def test_huge_numbers(number: str) -> None:
+    text = HEAD + f'[b##blk_inst: MV("{number}, 0, 0, 0, 100") LD() AO()]\n[b##blk_terminus]\n'
+    assert "V003" in codes(text)
+
+
+@pytest.mark.parametrize("word", ["nan", "NaN", "inf", "-Infinity"])
+def test_non_finite_words(word: str) -> None:
+    text = HEAD + f'[b##blk_inst: MV("{word}, 0, 0, 0, 100") LD() AO()]\n[b##blk_terminus]\n'
+    assert codes(text) == ["V003"]
+
+
+def test_huge_time_is_refused() -> None:
+    text = HEAD + '[b##blk_inst: MV("0, 0, 0, 0, 99999999999999999999") LD() AO()]\n[b##blk_terminus]\n'
+    assert "V006" in codes(text)
+
+
+def test_many_megabytes_of_one_line() -> None:
+    text = HEAD + "[b##blk_inst: MV() LD() AO()]" * 150_000 + "[b##blk_terminus]"
+    assert len(text) > 4_000_000
+    assert codes(text) == []
+
+
+def test_many_megabytes_of_junk_is_one_error() -> None:
+    assert codes("x" * 5_000_000) == ["P008"]
+
+
+def test_control_characters_and_nul() -> None:
+    found = codes(HEAD + "[b##blk_terminus]\x00\x01\n")
+    assert found == ["P008"]
+
+
+def test_crlf_and_lone_cr_line_endings() -> None:
+    text = "[act]\r\n[goal:g]\r[action]\r\n[b##blk_jump: CND(! {TRUE}) TRJMP(x) FLSJMP()]\r\n[b#x#blk_terminus]"
+    analysis = analyze_script(SourceFile("crlf.script", text))
+    assert analysis.ok
