@@ -48,7 +48,7 @@ def check_audio(ctx: Context) -> list[Diagnostic]:
                              "thesis does: `plugins/audio_control/songs/...`",
                     )
                 )
-            else:
+            elif ".." in path:
                 normal = posixpath.normpath(path.replace("\\", "/"))
                 if normal == ".." or normal.startswith("../"):
                     out.append(

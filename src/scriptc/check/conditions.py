@@ -14,6 +14,8 @@ script binds to the same class.
 
 from __future__ import annotations
 
+import bisect
+
 from scriptc.check.context import Context, closest, code_list
 from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit, diagnostic
 from scriptc.ir.builtins import CLASSES, SCOPES
@@ -33,10 +35,17 @@ from scriptc.ir.nodes import (
     VarAssignment,
 )
 
+# The scopes of builtins.SCOPES, said short enough for a help line.
+_SCOPES = {
+    "U": "while the script runs",
+    "L": "until the binding rule passes the map on",
+    "T": "for one loop of the map",
+}
+
 _KIND_ROLE = {
-    "B": "a test of a CLASS assignment",
-    "F": "the value of a VAR or ATT assignment",
-    "E": "an evaluation after the `!`",
+    "B": "`B:` functions test the candidate entity of a CLASS assignment",
+    "F": "`F:` functions give the value of a VAR or ATT assignment",
+    "E": "`E:` functions evaluate the condition after the `!`",
 }
 _KIND_RETURNS = {
     "B": "returns a boolean about the candidate entity",
@@ -54,46 +63,51 @@ def check_conditions(ctx: Context) -> list[Diagnostic]:
     out: list[Diagnostic] = []
     if not ctx.jumps:
         return out
-    classes = _alias_classes(ctx)
+    sites = _binding_sites(ctx)
+    classes = {alias: {_bare(a.class_name.text, "#") for _, a in where} for alias, where in sites.items()}
     u_bound: set[str] = set()
-    for _, jump in ctx.jumps:
+    for position, (_, jump) in enumerate(ctx.jumps):
         condition = jump.condition
-        _ConditionChecker(ctx, out, u_bound, classes).run(condition)
+        _ConditionChecker(ctx, out, u_bound, classes, sites, position).run(condition)
         for asg in condition.assignments:
             if isinstance(asg, ClassAssignment) and asg.scope.text == "U" and not asg.alias.is_this:
                 u_bound.add(asg.alias.name.text)
     return out
 
 
-def _alias_classes(ctx: Context) -> dict[str, set[str]]:
-    """Every class each alias is bound to anywhere in the script."""
-    classes: dict[str, set[str]] = {}
-    for _, jump in ctx.jumps:
+def _binding_sites(ctx: Context) -> dict[str, list[tuple[int, ClassAssignment]]]:
+    """Every CLASS assignment binding each alias, with the position of its jump block among
+    the script's jump blocks (execution order)."""
+    sites: dict[str, list[tuple[int, ClassAssignment]]] = {}
+    for position, (_, jump) in enumerate(ctx.jumps):
         for asg in jump.condition.assignments:
-            if isinstance(asg, ClassAssignment):
-                classes.setdefault(asg.alias.name.text, set()).add(_bare(asg.class_name.text, "#"))
-    return classes
+            if isinstance(asg, ClassAssignment) and not asg.alias.is_this:
+                sites.setdefault(asg.alias.name.text, []).append((position, asg))
+    return sites
 
 
 class _ConditionChecker:
     """Checks one condition; `u_bound` holds the aliases bound with `U` by earlier blocks."""
 
     def __init__(self, ctx: Context, out: list[Diagnostic], u_bound: set[str],
-                 script_classes: dict[str, set[str]]) -> None:
+                 script_classes: dict[str, set[str]],
+                 sites: dict[str, list[tuple[int, ClassAssignment]]], position: int) -> None:
         self.ctx = ctx
         self.out = out
         self.u_bound = u_bound
         self.script_classes = script_classes
+        self.sites = sites
+        self.position = position
         # alias -> the CLASS assignment that bound it most recently in this condition
         self.bound: dict[str, ClassAssignment] = {}
         self.first_binding: dict[str, ClassAssignment] = {}
         self.reported_unbound: set[str] = set()
-        self.later_binding: dict[str, ClassAssignment] = {}
+        self.binding_here: dict[str, ClassAssignment] = {}
 
     def run(self, condition: Condition) -> None:
         for asg in condition.assignments:
             if isinstance(asg, ClassAssignment):
-                self.later_binding.setdefault(asg.alias.name.text, asg)
+                self.binding_here.setdefault(asg.alias.name.text, asg)
         for asg in condition.assignments:
             if isinstance(asg, ClassAssignment):
                 self.class_assignment(asg)
@@ -145,7 +159,7 @@ class _ConditionChecker:
     def scope(self, scope: Name) -> None:
         if scope.text in SCOPES:
             return
-        valid = ", ".join(f"`{k}` ({v})" for k, v in SCOPES.items())
+        valid = ", ".join(f"`{k}` ({_SCOPES.get(k, v)})" for k, v in SCOPES.items())
         fix = None
         if scope.text.upper() in SCOPES and self.ctx.is_script_syntax:
             fix = Fix(f"write `{scope.text.upper()}`", (TextEdit(scope.span, scope.text.upper()),))
@@ -186,10 +200,19 @@ class _ConditionChecker:
             return
         self.reported_unbound.add(text)
         labels = []
-        later = self.later_binding.get(text)
+        later = self.binding_here.get(text)
+        elsewhere = self._other_block_binding(text)
         if later is not None:
             labels.append(Label(later.alias.span, f"`{text}` is bound here, after this use"))
             help = f"move the CLASS assignment that binds `{text}` before its first use"
+        elif elsewhere is not None and elsewhere[0] < self.position:
+            asg = elsewhere[1]
+            labels.append(Label(asg.scope.span, f"an earlier block binds `{text}` with scope "
+                                                f"`{asg.scope.text}`, which does not last until here"))
+            help = f"bind `{text}` with scope `U` there, or bind it again in this condition"
+        elif elsewhere is not None:
+            labels.append(Label(elsewhere[1].alias.span, f"`{text}` is bound only in a later block"))
+            help = f"bind `{text}` in this condition or in an earlier jump block with scope `U`"
         else:
             help = (f"bind it first, e.g. `{{CLASS #Human U {text} (B: near(1.5))}}` before "
                     "this use, or in an earlier jump block with scope `U`")
@@ -205,6 +228,19 @@ class _ConditionChecker:
                 help=help,
             )
         )
+
+    def _other_block_binding(self, alias: str) -> tuple[int, ClassAssignment] | None:
+        """The binding of `alias` in another block nearest before this one (its scope is
+        not `U`, or the alias would count as bound), else the first after it."""
+        where = self.sites.get(alias, ())
+        # Sites are in block order: bisect keeps this linear overall even when every block
+        # binds the alias and every other one uses it unbound.
+        i = bisect.bisect_left(where, self.position, key=lambda site: site[0])
+        before = where[i - 1] if i > 0 else None
+        while i < len(where) and where[i][0] == self.position:
+            i += 1
+        after = where[i] if i < len(where) else None
+        return before or after
 
     def this_outside(self, alias: AliasRef) -> None:
         self.out.append(
@@ -256,7 +292,7 @@ class _ConditionChecker:
             return
         labels = []
         if via is not None and via[1] is not None:
-            labels.append(Label(via[1].class_name.span, f"`{via[0]}` is bound to a `{cls}` here"))
+            labels.append(Label(via[1].class_name.span, f"`{via[0]}` is bound to {_a(cls)} `{cls}` here"))
         best = closest(field, fields)
         fix = None
         if best is not None:
@@ -266,9 +302,11 @@ class _ConditionChecker:
                 fix = Fix(f"write `{best}`", (TextEdit(name.span, new),), safe=False)
         else:
             help = f"the fields of `{cls}` are {code_list(fields)}"
+        owners = [c for c, fs in CLASSES.items() if any(f.name == field for f in fs)]
+        notes = (f"`{field}` is a field of {code_list(owners)}",) if owners else ()
         self.out.append(
             diagnostic("R002", f"`{cls}` has no field `{field}`", name.span,
-                       labels=labels, help=help, fix=fix)
+                       labels=labels, notes=notes, help=help, fix=fix)
         )
 
     # -- calls ----------------------------------------------------------------------------
@@ -286,7 +324,7 @@ class _ConditionChecker:
             best = closest(name, same_kind)
             fix = None
             if best is not None:
-                help = f"a {kind} function with a similar name exists: `{best}`"
+                help = f"{_article(kind)} {kind} function with a similar name exists: `{best}`"
                 if self.ctx.is_script_syntax:
                     fix = Fix(f"call `{best}`", (TextEdit(call.name.span, best),), safe=False)
             else:
@@ -305,7 +343,7 @@ class _ConditionChecker:
                     f"`{name}` is {_article(function.kind)} {function.kind} function, "
                     f"used as {_article(kind)} {kind} function",
                     call.name.span,
-                    notes=(f"{kind}: is {_KIND_ROLE[kind]}; `{function.signature}` "
+                    notes=(f"{_KIND_ROLE[kind]}; `{function.signature}` "
                            f"{_KIND_RETURNS[function.kind]}",),
                     help=f"the {kind} functions are {code_list(registry.names(kind))}",
                 )
@@ -322,6 +360,10 @@ class _ConditionChecker:
                     help=f"call it as `{function.signature}`",
                 )
             )
+
+
+def _a(word: str) -> str:
+    return "an" if word[:1].lower() in "aeiou" else "a"
 
 
 def _article(kind: str) -> str:

@@ -82,7 +82,9 @@ class Context:
         start, end = block.span.start, block.span.end
         if not text.startswith("[", start):
             return block.span
-        i = text.find("blk_", start, end)
+        # Search after the label, which may itself contain `blk_`.
+        after = block.label.span.end if block.label is not None else start
+        i = text.find("blk_", after, end)
         if i < 0:
             return block.span
         j = i + 4
@@ -98,6 +100,11 @@ class Context:
         while j < len(text) and text[j] in " \t":
             j += 1
         return text[line:j]
+
+    @cached_property
+    def newline(self) -> str:
+        """The line break inserted lines use: the file's own (CRLF files stay CRLF)."""
+        return "\r\n" if "\r\n" in self.source.text else "\n"
 
     def text_of(self, span: Span) -> str:
         return self.source.text[span.start : span.end]

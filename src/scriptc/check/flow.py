@@ -93,7 +93,8 @@ def _unreachable(ctx: Context, succ: list[tuple[int, ...]], out: list[Diagnostic
         count = j - i + 1
         notes = []
         if count > 1:
-            notes.append(f"this block and the {count - 1} after it are never reached "
+            after = "the next one" if count == 2 else f"the {count - 1} after it"
+            notes.append(f"this block and {after} are never reached "
                          f"({block_path(addresses[i])} to {block_path(addresses[j])})")
         labels = []
         if i > 0 and reached[i - 1]:
@@ -101,7 +102,14 @@ def _unreachable(ctx: Context, succ: list[tuple[int, ...]], out: list[Diagnostic
             if isinstance(before, TerminusBlock):
                 labels.append(Label(ctx.block_head(before), "the script ends here"))
             elif isinstance(before, JumpBlock):
-                labels.append(Label(ctx.block_head(before), "this jump never goes on to the next block"))
+                target = before.true_target.text if before.true_target else ""
+                if before.condition.is_constant_true and target in ctx.labels.index:
+                    if not ctx.is_script_syntax:  # labels were made up from JSON paths
+                        target = block_path(addresses[ctx.labels.index[target]])
+                    why = f"this jump always goes to `{target}`"
+                else:
+                    why = "neither branch of this jump goes on to the next block"
+                labels.append(Label(ctx.block_head(before), why))
         out.append(
             diagnostic(
                 "F001",
@@ -215,7 +223,7 @@ def _terminus(ctx: Context, out: list[Diagnostic]) -> None:
     if ctx.is_script_syntax:
         at = Span(last.span.end, last.span.end)
         fix = Fix("end the script with a terminus block",
-                  (TextEdit(at, "\n" + ctx.indent_at(last.span.start) + "[b##blk_terminus]"),))
+                  (TextEdit(at, ctx.newline + ctx.indent_at(last.span.start) + "[b##blk_terminus]"),))
     out.append(
         diagnostic(
             "F003",
@@ -223,7 +231,8 @@ def _terminus(ctx: Context, out: list[Diagnostic]) -> None:
             ctx.block_head(last),
             notes=("the script ends by running past its last block (valid: the thesis's "
                    "`dance_example.json` does so)",),
-            help="end the script explicitly with `[b##blk_terminus]`",
+            help="end the script explicitly with "
+                 + ("`[b##blk_terminus]`" if ctx.is_script_syntax else '`{"type": "terminus"}`'),
             fix=fix,
         )
     )

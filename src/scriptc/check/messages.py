@@ -149,7 +149,7 @@ def _balance(ctx: Context, out: list[Diagnostic]) -> None:
             fix = Fix(
                 "add omega messages that undo the alfa list",
                 (TextEdit(Span(last.span.end, last.span.end),
-                          "".join("\n" + indent + line for line in lines)),),
+                          "".join(ctx.newline + indent + line for line in lines)),),
                 safe=False,
             )
         out.append(
@@ -193,7 +193,7 @@ def _leaks(ctx: Context, out: list[Diagnostic]) -> None:
         fix = None
         if ctx.is_script_syntax:
             at = Span(last.span.end, last.span.end)
-            fix = Fix(f"add `{line}` to the omega list", (TextEdit(at, "\n" + indent + line),),
+            fix = Fix(f"add `{line}` to the omega list", (TextEdit(at, ctx.newline + indent + line),),
                       safe=False)
         out.append(
             diagnostic(

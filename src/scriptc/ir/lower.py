@@ -17,6 +17,7 @@ import re
 from lark import Token, Tree
 
 from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit, diagnostic
+from scriptc.gcpause import gc_paused
 from scriptc.ir import nodes as ir
 from scriptc.ir.values import read_number
 from scriptc.source import SourceFile, Span
@@ -31,10 +32,16 @@ _ESCAPE = re.compile(r"\\(.)", re.DOTALL)
 _TRUE_EVAL = re.compile(r"\{\s*TRUE\s*\}")
 
 
+_KINDS: dict[str, str] = {}
+
+
 def _kind(node: Tree | Token) -> str:
     """A rule or terminal name without the namespace lark adds to imported grammars."""
     name = node.data if isinstance(node, Tree) else node.type
-    return str(name).rsplit("__", 1)[-1]
+    kind = _KINDS.get(name)
+    if kind is None:
+        kind = _KINDS[name] = str(name).rsplit("__", 1)[-1]
+    return kind
 
 
 _PARENS = re.compile(r'"(?:\\.|[^"\\])*"|[()]')
@@ -55,23 +62,6 @@ class _Lowerer:
 
     def span(self, token: Token) -> Span:
         return Span(self.base + token.start_pos, self.base + token.end_pos)
-
-    def tree_span(self, node: Tree | Token) -> Span:
-        """From the first to the last token under `node` (iterative: trees may be deep)."""
-        first = last = None
-        stack = [node]
-        while stack:
-            n = stack.pop()
-            if isinstance(n, Token):
-                if first is None or n.start_pos < first.start_pos:
-                    first = n
-                if last is None or n.end_pos > last.end_pos:
-                    last = n
-            elif isinstance(n, Tree):
-                stack.extend(n.children)
-        if first is None:
-            return Span(self.base, self.base)
-        return Span(self.base + first.start_pos, self.base + last.end_pos)
 
     def name(self, token: Token, strip: int = 0) -> ir.Name:
         s = self.span(token)
@@ -338,7 +328,11 @@ class _Lowerer:
         for track in body.children:
             name_t, *strings = track.children
             track_name = str(name_t)
-            seen.append((track_name, Span(self.span(name_t).start, self.tree_span(track).end + 1)))
+            present = [t for t in strings if t is not None]
+            last = self.span(present[-1]).end if present else self.span(name_t).end
+            close = self.text.find(")", last - self.text_base)
+            end = self.text_base + close + 1 if close != -1 else last
+            seen.append((track_name, Span(self.span(name_t).start, end)))
             for token in strings:
                 if token is None:
                     continue
@@ -480,40 +474,46 @@ class _Lowerer:
             k = _kind(child)
             if k == "class_assignment":
                 class_t, scope_t, alias_t, *tests = child.children
+                class_name = self.name(class_t, strip=1)
+                lowered = tuple(self.test(t) for t in tests if t is not None)
+                end = lowered[-1].span.end if lowered else self.span(alias_t).end
                 assignments.append(
                     ir.ClassAssignment(
-                        class_name=self.name(class_t, strip=1),
+                        class_name=class_name,
                         scope=self.name(scope_t),
                         alias=self.alias(alias_t),
-                        tests=tuple(self.test(t) for t in tests if t is not None),
-                        span=self._enclose(self.tree_span(child), "{", "}"),
+                        tests=lowered,
+                        span=self._enclose(Span(class_name.span.start, end), "{", "}"),
                     )
                 )
             elif k == "var_assignment":
                 var_t, scope_t, f_call = child.children
+                var = ir.VarRef(self.name(var_t), self.span(var_t))
+                call = self.call(f_call.children[0], "F")
                 assignments.append(
                     ir.VarAssignment(
-                        var=ir.VarRef(self.name(var_t), self.span(var_t)),
+                        var=var,
                         scope=self.name(scope_t),
-                        call=self.call(f_call.children[0], "F"),
-                        span=self._enclose(self.tree_span(child), "{", "}"),
+                        call=call,
+                        span=self._enclose(Span(var.span.start, call.span.end), "{", "}"),
                     )
                 )
             elif k == "att_assignment":
                 alias_node, att_t, scope_t, f_call = child.children
+                alias = self.value(alias_node)
+                call = self.call(f_call.children[0], "F")
                 assignments.append(
                     ir.AttAssignment(
-                        alias=self.value(alias_node),
+                        alias=alias,
                         att=self.name(att_t),
                         scope=self.name(scope_t),
-                        call=self.call(f_call.children[0], "F"),
-                        span=self._enclose(self.tree_span(child), "{", "}"),
+                        call=call,
+                        span=self._enclose(Span(alias.span.start, call.span.end), "{", "}"),
                     )
                 )
             elif k == "e_evaluation":
-                evaluations.append(
-                    ir.CallEvaluation(self.call(child.children[0], "E"), self._enclose(self.tree_span(child), "{", "}"))
-                )
+                call = self.call(child.children[0], "E")
+                evaluations.append(ir.CallEvaluation(call, self._enclose(call.span, "{", "}")))
             elif k == "true_evaluation":
                 # `{TRUE}` has no token in the tree: find it after what came before it.
                 after = evaluations[-1].span.end if evaluations else (
@@ -529,8 +529,10 @@ class _Lowerer:
     def test(self, node: Tree) -> ir.Test:
         k = _kind(node)
         if k == "field_test":
-            _this, _access, field_t, op_t, value = node.children
-            return ir.FieldTest(self.name(field_t), self.name(op_t), self.value(value), self.tree_span(node))
+            this_t, _access, field_t, op_t, value = node.children
+            lowered = self.value(value)
+            span = Span(self.base + this_t.start_pos, lowered.span.end)
+            return ir.FieldTest(self.name(field_t), self.name(op_t), lowered, span)
         call = self.call(node.children[0], "B")
         start = self.text.rfind("B", 0, call.span.start - self.text_base)
         return ir.CallTest(call, Span(self.text_base + start if start != -1 else call.span.start, call.span.end))
@@ -538,11 +540,11 @@ class _Lowerer:
     def call(self, node: Tree, kind: str) -> ir.Call:
         name_t, *args = node.children
         values = tuple(self.value(a) for a in args if a is not None)
-        span = self.tree_span(node)
-        end = self.text.find(")", span.end - self.text_base)
-        if end != -1:
-            span = Span(span.start, self.text_base + end + 1)
-        return ir.Call(kind, self.name(name_t), values, span)
+        name = self.name(name_t)
+        last = values[-1].span.end if values else name.span.end
+        end = self.text.find(")", last - self.text_base)
+        span = Span(name.span.start, self.text_base + end + 1 if end != -1 else last)
+        return ir.Call(kind, name, values, span)
 
     def alias(self, token: Token) -> ir.AliasRef:
         return ir.AliasRef(self.name(token), self.span(token))
@@ -558,10 +560,14 @@ class _Lowerer:
             return self.alias(node.children[0])
         if k == "field_ref":
             alias_node, _access, field_t = node.children
-            return ir.FieldRef(self.value(alias_node), self.name(field_t), self.tree_span(node))
+            alias = self.value(alias_node)
+            field = self.name(field_t)
+            return ir.FieldRef(alias, field, Span(alias.span.start, field.span.end))
         if k == "att_ref":
             alias_node, _access, att_t = node.children
-            return ir.AttRef(self.value(alias_node), self.name(att_t), self.tree_span(node))
+            alias = self.value(alias_node)
+            att = self.name(att_t)
+            return ir.AttRef(alias, att, Span(alias.span.start, att.span.end))
         if k == "var_ref":
             t = node.children[0]
             return ir.VarRef(self.name(t), self.span(t))
@@ -571,7 +577,8 @@ class _Lowerer:
 def lower_script(source: SourceFile) -> tuple[ir.Script | None, list[Diagnostic]]:
     """Parse and lower a whole script. The script is None only when the file holds no item."""
     lowerer = _Lowerer(source.text)
-    script = lowerer.script(source)
+    with gc_paused():
+        script = lowerer.script(source)
     return script, lowerer.diagnostics
 
 

@@ -1,0 +1,339 @@
+"""Behaviour of the semantic passes beyond the case files: the fixes they offer (applied, they
+must remove the diagnostic and nothing else), the decisions written in the explanations, and
+the public API."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+from scriptc.check import Context, check_script
+from scriptc.diagnostics.model import Severity
+from scriptc.driver import analyze_script
+from scriptc.ir.builtins import STANDARD, Function, Param
+from scriptc.source import SourceFile
+
+
+def lint(text: str, functions=STANDARD):
+    analysis = analyze_script(SourceFile("t.script", text), functions)
+    assert analysis.script is not None
+    front = [d for d in analysis.diagnostics if d.code[0] in "PS" or d.code in ("V001", "V002")]
+    assert not front, front
+    return analysis.diagnostics
+
+
+def codes(text: str, functions=STANDARD) -> list[str]:
+    return [d.code for d in lint(text, functions)]
+
+
+def under(text: str, diagnostic) -> str:
+    return text[diagnostic.span.start : diagnostic.span.end]
+
+
+def apply_fixes(text: str, diagnostics) -> str:
+    edits = [e for d in diagnostics if d.fix for e in d.fix.edits]
+    for e in sorted(edits, key=lambda e: (e.span.start, e.span.end), reverse=True):
+        text = text[: e.span.start] + e.new_text + text[e.span.end :]
+    return text
+
+
+HEAD = "[act]\n"
+TAIL = "[goal:g]\n[action]\n[b##blk_terminus]\n"
+
+
+def blocks(*lines: str) -> str:
+    return "[act]\n[goal:g]\n[action]\n" + "\n".join(lines) + "\n"
+
+
+# -- M: rule messages ----------------------------------------------------------------------
+
+
+def test_thesis_example_leaks_exactly_my_rule():
+    text = (
+        '[example_act]\n[alfa:16,my_rule,"\\\\myinputtopic","\\\\myoutputtopic",A,M]\n'
+        '[alfa:0,kick_starter,"","",R,U]\n[omega:0,kick_starter,"","",C,L]\n' + TAIL
+    )
+    diags = [d for d in lint(text) if d.code.startswith("M")]
+    assert [(d.code, under(text, d)) for d in diags] == [("M004", "my_rule")]
+    fixed = apply_fixes(text, diags)
+    assert '[omega:16,my_rule,"\\\\myinputtopic","\\\\myoutputtopic",R,M]' in fixed
+    assert codes(fixed) == []
+
+
+def test_mutex_fixes_are_safe_and_complete():
+    text = (HEAD + '[alfa:1,a,"","",A,U]\n[alfa:2,b,"","",A,L]\n[alfa:3,c,"","",A,M]\n'
+            '[omega:1,a,"","",R,M]\n[omega:2,b,"","",R,L]\n[omega:3,c,"","",R,U]\n' + TAIL)
+    diags = lint(text)
+    assert sorted({d.code for d in diags}) == ["M001", "M002"]
+    assert all(d.fix is not None and d.fix.safe for d in diags)
+    assert codes(apply_fixes(text, diags)) == []
+
+
+def test_single_alfa_must_be_u_and_single_omega_must_be_l():
+    text = HEAD + '[alfa:1,a,"","",A,M]\n[omega:1,a,"","",R,M]\n' + TAIL
+    diags = lint(text)
+    assert [(d.code, under(text, d)) for d in diags] == [("M001", "M"), ("M002", "M")]
+
+
+def test_missing_omega_fix_undoes_the_alfa_list_and_skips_delayed_rules():
+    text = HEAD + '[alfa:1,a,"in","out",A,M]\n[alfa:2,d,"","",D,M]\n[alfa:0,k,"","",R,U]\n' + TAIL
+    (d,) = lint(text)
+    assert d.code == "M003" and d.fix is not None and not d.fix.safe
+    fixed = apply_fixes(text, [d])
+    assert '[omega:1,a,"in","out",R,L]\n[omega:0,k,"","",C,M]\n' in fixed
+    assert "[omega:2,d" not in fixed
+    assert codes(fixed) == []
+
+
+def test_missing_alfa_is_reported_at_the_omega_list():
+    text = HEAD + '[omega:0,k,"","",C,L]\n' + TAIL
+    (d,) = lint(text)
+    assert d.code == "M003" and under(text, d).startswith("[omega:0")
+
+
+def test_no_leak_warning_when_the_omega_list_is_missing():
+    # M003 covers it, with a fix that writes the whole omega list: no duplicate reports.
+    text = HEAD + '[alfa:1,a,"","",A,U]\n' + TAIL
+    assert codes(text) == ["M003"]
+
+
+def test_delayed_rules_need_no_undo():
+    text = HEAD + '[alfa:1,later,"","",D,M]\n[alfa:0,k,"","",C,U]\n[omega:0,k,"","",R,L]\n' + TAIL
+    assert codes(text) == []
+
+
+def test_invalid_letters_get_m005_only():
+    text = HEAD + '[alfa:1,a,"","",a,x]\n[omega:1,a,"","",R,L]\n' + TAIL
+    diags = lint(text)
+    assert [(d.code, under(text, d)) for d in diags] == [("M005", "a"), ("M005", "x")]
+    assert diags[0].fix is not None and diags[0].fix.edits[0].new_text == "A"
+    assert diags[1].fix is None and "`L`" in diags[1].help
+
+
+# -- L: labels ------------------------------------------------------------------------------
+
+
+def test_duplicate_label_points_at_the_first_definition():
+    text = blocks("[b#x#blk_inst: MV() LD() AO()]", "[b#x#blk_terminus]")
+    (d,) = lint(text)
+    assert d.code == "L001"
+    assert d.span.start > d.labels[0].span.start
+    assert under(text, d) == "x" and d.labels[0].message == "`x` first defined here"
+
+
+def test_unknown_label_suggests_the_closest_and_silences_reachability():
+    text = blocks(
+        "[b#start#blk_inst: MV() LD() AO()]",
+        "[b##blk_jump: CND(! {TRUE}) TRJMP(strat) FLSJMP()]",
+        "[b##blk_inst: MV() LD() AO()]",
+        "[b##blk_terminus]",
+    )
+    (d,) = lint(text)
+    assert d.code == "L003" and under(text, d) == "strat"
+    assert "`start`" in d.help and d.fix is not None and not d.fix.safe
+    # With the label fixed the jump always goes back to `start`: the rest is unreachable,
+    # and the loop passes an instruction block, so it is no F002.
+    assert codes(apply_fixes(text, [d])) == ["F001"]
+
+
+# -- F: flow --------------------------------------------------------------------------------
+
+
+def test_constant_true_jump_takes_only_its_true_branch():
+    text = blocks(
+        "[b##blk_jump: CND({TRUE}) TRJMP(end) FLSJMP()]",
+        "[b##blk_inst: MV() LD() AO()]",
+        "[b#end#blk_terminus]",
+    )
+    (d,) = lint(text)
+    assert d.code == "F001" and d.severity is Severity.WARNING
+    assert under(text, d) == "[b##blk_inst"
+    assert d.labels[0].message == "this jump always goes to `end`"
+
+
+def test_conditional_jump_takes_both_branches():
+    text = blocks(
+        "[b##blk_jump: CND(! {E: gt(1, 2)}) TRJMP(end) FLSJMP()]",
+        "[b##blk_inst: MV() LD() AO()]",
+        "[b#end#blk_terminus]",
+    )
+    assert codes(text) == []
+
+
+def test_one_warning_per_run_of_unreachable_blocks():
+    text = (
+        "[act]\n[goal:g]\n[action]\n[b##blk_terminus]\n[b##blk_inst: MV() LD() AO()]\n"
+        "[goal:h]\n[action]\n[b##blk_inst: MV() LD() AO()]\n[b##blk_terminus]\n"
+    )
+    (d,) = lint(text)
+    assert d.code == "F001" and d.message == "3 unreachable blocks"
+    assert "goal0/act0/blk1 to goal1/act0/blk1" in d.notes[0]
+    assert d.labels[0].message == "the script ends here"
+
+
+def test_loop_through_an_instruction_block_is_fine():
+    text = blocks(
+        "[b#top#blk_inst: MV() LD() AO(\"Silence, 0, 100\")]",
+        "[b##blk_jump: CND({CLASS #Human T ?kid (B: near(1))} !) TRJMP() FLSJMP(top)]",
+        "[b##blk_terminus]",
+    )
+    assert codes(text) == []
+
+
+def test_cycle_through_sensor_blocks_is_one_error_with_labels():
+    text = blocks(
+        "[b#a#blk_jump: CND(! {E: gt(1, 2)}) TRJMP() FLSJMP(c)]",
+        "[b#b#blk_sens]",
+        "[b#c#blk_jump: CND(! {E: gt(1, 2)}) TRJMP(a) FLSJMP()]",
+        "[b##blk_terminus]",
+    )
+    (d,) = lint(text)
+    assert d.code == "F002" and under(text, d) == "[b#a#blk_jump"
+    assert [under(text, label) for label in d.labels] == ["[b#b#blk_sens", "[b#c#blk_jump"]
+
+
+def test_no_terminus_fix_appends_one_and_is_safe():
+    text = "[act]\n[goal:g]\n  [action]\n    [b##blk_inst: MV() LD() AO()]\n"
+    (d,) = lint(text)
+    assert d.code == "F003" and d.severity is Severity.INFO and d.fix.safe
+    fixed = apply_fixes(text, [d])
+    assert fixed.endswith("    [b##blk_inst: MV() LD() AO()]\n    [b##blk_terminus]\n")
+    assert codes(fixed) == []
+
+
+# -- V: values ------------------------------------------------------------------------------
+
+
+def test_whole_time_fixes():
+    text = blocks('[b##blk_inst: MV("0, 0, 0, 1e3, 1000.0") LD("1, 0, 0, 1.0, 0, 2.5") AO()]',
+                  "[b##blk_terminus]")
+    diags = lint(text)
+    assert [(d.code, under(text, d), d.fix.edits[0].new_text if d.fix else None) for d in diags] == [
+        ("V006", "1e3", "1000"),
+        ("V006", "1000.0", "1000"),
+        ("V005", "1.0", "1"),
+        ("V006", "2.5", None),
+    ]
+
+
+def test_range_bounds_are_inclusive():
+    text = ('[act]\n[alfa:4294967295,r,"","",A,U]\n[omega:0,r,"","",R,L]\n[goal:g]\n[action]\n'
+            '[b##blk_inst: MV("-1, 0, 0, 0, 2147483647") LD("0, 1, 0.5, 0, 2147483647, 0") '
+            'AO("Silence, 0, 2147483647")]\n[b##blk_terminus]\n')
+    assert codes(text) == []
+
+
+# -- R: conditions --------------------------------------------------------------------------
+
+
+def test_u_binding_in_an_earlier_block_counts_and_keeps_its_class():
+    text = blocks(
+        "[b##blk_jump: CND({CLASS #Obstacle U ?o (B: near(1))} !) TRJMP() FLSJMP()]",
+        "[b##blk_jump: CND(! {E: eq(?o>&isfixed, 1)} {E: eq(?o>&istarget, 1)}) TRJMP() FLSJMP()]",
+        "[b##blk_terminus]",
+    )
+    diags = lint(text)
+    assert [(d.code, under(text, d)) for d in diags] == [("R002", "istarget")]
+    assert diags[0].notes == ("`istarget` is a field of `Object`",)
+
+
+def test_alias_with_two_classes_in_the_script_has_no_field_check_outside():
+    text = blocks(
+        "[b##blk_jump: CND({CLASS #Obstacle U ?o (B: near(1))} !) TRJMP() FLSJMP()]",
+        "[b##blk_jump: CND({CLASS #Human U ?o (B: near(1))} !) TRJMP() FLSJMP()]",
+        "[b##blk_jump: CND(! {E: eq(?o>&isfixed, 1)}) TRJMP() FLSJMP()]",
+        "[b##blk_terminus]",
+    )
+    assert codes(text) == []
+
+
+def test_latest_binding_in_a_condition_gives_the_class():
+    text = blocks(
+        "[b##blk_jump: CND({CLASS #Obstacle T ?o ()} {CLASS #Human T ?o ()} ! "
+        "{E: eq(?o>&isfixed, 1)}) TRJMP() FLSJMP()]",
+        "[b##blk_terminus]",
+    )
+    diags = lint(text)
+    assert [d.code for d in diags] == ["R008", "R002"]
+    assert diags[1].labels[0].message == "`?o` is bound to a `Human` here"
+
+
+def test_alias_in_its_own_tests_is_unbound():
+    text = blocks(
+        "[b##blk_jump: CND({CLASS #Human T ?kid (?THIS>&id OP= ?kid>&id)} !) TRJMP() FLSJMP()]",
+        "[b##blk_terminus]",
+    )
+    (d,) = lint(text)
+    assert d.code == "R006" and d.labels[0].message == "`?kid` is bound here, after this use"
+
+
+def test_custom_functions_extend_the_registry():
+    registry = STANDARD.extended([Function("sees", "E", (Param("who", "an alias"),), "doc", "repo")])
+    text = blocks(
+        "[b##blk_jump: CND({CLASS #Human T ?kid ()} ! {E: sees(?kid)}) TRJMP() FLSJMP()]",
+        "[b##blk_terminus]",
+    )
+    assert codes(text) == ["R003"]
+    assert codes(text, registry) == []
+
+
+def test_function_kind_is_reported_before_arity():
+    text = blocks("[b##blk_jump: CND(! {E: near(1, 2, 3)}) TRJMP() FLSJMP()]", "[b##blk_terminus]")
+    assert codes(text) == ["R004"]
+
+
+# -- A: audio -------------------------------------------------------------------------------
+
+
+def test_silence_and_repository_paths_are_fine():
+    text = blocks('[b##blk_inst: MV() LD() AO("Silence, 0, 1", "plugins/audio_control/songs/'
+                  'sounds_Excited_R2D2.wav, 0, 4000", "a/../b.wav, 0, 1")]', "[b##blk_terminus]")
+    assert codes(text) == []
+
+
+# -- API ------------------------------------------------------------------------------------
+
+
+def test_check_script_returns_sorted_diagnostics():
+    text = blocks('[b##blk_inst: MV() LD("2, 0, 0, 5, 0, 1") AO("/x.wav, 0, 1")]')
+    analysis = analyze_script(SourceFile("t.script", text))
+    diags = check_script(analysis.script, analysis.source)
+    assert [d.code for d in diags] == ["F003", "V004", "V005", "A001"]
+    assert diags == sorted(diags, key=lambda d: d.sort_key())
+
+
+def test_no_script_syntax_fixes_on_json_sources():
+    text = blocks('[b##blk_inst: MV("0, 0, 0, 1e3, 0") LD() AO()]')
+    analysis = analyze_script(SourceFile("t.script", text))
+    json_like = SourceFile("t.json", "{" + text[1:])
+    assert Context(analysis.script, json_like).is_script_syntax is False
+    diags = check_script(analysis.script, json_like)
+    assert [d.code for d in diags] == ["F003", "V006"]
+    assert all(d.fix is None for d in diags)
+
+
+def test_importing_the_checks_is_cheap():
+    code = ("import sys, scriptc.check; "
+            "print(sorted(m for m in ('lark', 'jsonschema', 'rich', 'click', 'difflib') "
+            "if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "[]"
+
+
+def test_inserted_lines_keep_crlf_line_breaks():
+    text = "[act]\r\n[goal:g]\r\n[action]\r\n[b##blk_inst: MV() LD() AO()]\r\n"
+    (d,) = lint(text)
+    assert d.code == "F003"
+    assert apply_fixes(text, [d]).endswith("AO()]\r\n[b##blk_terminus]\r\n")
+
+
+def test_jump_whose_branches_both_leave_is_named():
+    text = blocks(
+        "[b#top#blk_inst: MV() LD() AO()]",
+        "[b##blk_jump: CND(! {E: gt(1, 2)}) TRJMP(end) FLSJMP(top)]",
+        "[b##blk_inst: MV() LD() AO()]",
+        "[b#end#blk_terminus]",
+    )
+    (d,) = lint(text)
+    assert d.code == "F001" and d.message == "unreachable block" and not d.notes
+    assert d.labels[0].message == "neither branch of this jump goes on to the next block"
