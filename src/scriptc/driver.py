@@ -82,17 +82,17 @@ def decode_source(path: str, data: bytes) -> tuple[SourceFile, Diagnostic | None
     if data.startswith(_BOM):
         data, skipped = data[len(_BOM):], len(_BOM)
     bad: int | None = None
-    reason = ""
+    message = ""
     try:
         text = data.decode("utf-8")
     except UnicodeDecodeError as exc:
         bad = exc.start
-        reason = f"byte 0x{data[bad]:02x} is not valid UTF-8"
+        message = f"the file is not UTF-8 text: byte 0x{data[bad]:02x} is not valid UTF-8"
         text = data.decode("utf-8", errors="replace")
     nul = data.find(b"\x00", 0, bad)
     if nul != -1:
         bad = nul
-        reason = "a NUL byte: this looks like a binary file"
+        message = "the file is not text: it holds a NUL byte (is it a binary file?)"
     if bad is None:
         return SourceFile(path, text), None
 
@@ -108,7 +108,7 @@ def decode_source(path: str, data: bytes) -> tuple[SourceFile, Diagnostic | None
     source = SourceFile(path, text)
     return source, diagnostic(
         "P007",
-        f"the file is not UTF-8 text: {reason}",
+        message,
         Span(offset, min(offset + 1, len(text))),
         notes=notes,
         help="save the file as UTF-8 (scripts are text; binary files cannot be read)",
@@ -164,14 +164,19 @@ def analyze_file(path: str | os.PathLike[str], kind: str = "script", name: str |
 SCRIPT_SUFFIX = ".script"
 
 
-def discover_scripts(paths: list[str] | tuple[str, ...]) -> list[str]:
+def discover_scripts(paths: list[str] | tuple[str, ...], *, search_folders: bool = True
+                     ) -> list[str]:
     """The files that `scriptc lint PATH...` reads, in order.
 
-    A file named on the command line is read whatever its suffix; a directory contributes its
+    A file named on the command line is read whatever its suffix; a folder contributes its
     `*.script` files, recursively, sorted, skipping hidden folders and hidden files (names
-    starting with a dot: `.git`, editor lock files). `-` (stdin) is kept as it is. A file
-    reached twice is read once. Raises ReadError for a path that does not exist.
+    starting with a dot: `.git`, editor lock files), unless `search_folders` is false (then it
+    stays in the list, and reading it fails). `-` (stdin) is kept as it is. A file reached
+    twice is read once. Raises ReadError for a path that does not exist, before any is read.
     """
+    missing = [p for p in paths if p != "-" and not os.path.lexists(p)]
+    if missing:
+        raise ReadError(f"`{missing[0]}` does not exist")
     found: list[str] = []
     seen: set[str] = set()
 
@@ -182,9 +187,7 @@ def discover_scripts(paths: list[str] | tuple[str, ...]) -> list[str]:
             found.append(p)
 
     for path in paths:
-        if path == "-":
-            add(path)
-        elif os.path.isdir(path):
+        if search_folders and path != "-" and os.path.isdir(path):
             inner: list[str] = []
             for root, dirs, files in os.walk(path):
                 dirs[:] = [d for d in dirs if not d.startswith(".")]
@@ -192,10 +195,8 @@ def discover_scripts(paths: list[str] | tuple[str, ...]) -> list[str]:
                              if f.endswith(SCRIPT_SUFFIX) and not f.startswith("."))
             for p in sorted(inner):
                 add(p)
-        elif os.path.lexists(path):
-            add(path)
         else:
-            raise ReadError(f"`{path}` does not exist")
+            add(path)
     return found
 
 
@@ -219,14 +220,11 @@ class Run:
 def analyze_paths(paths: list[str] | tuple[str, ...], kind: str = "script", *,
                   stdin: Callable[[], bytes] | None = None, stdin_name: str = "<stdin>",
                   functions: FunctionRegistry = STANDARD) -> Run:
-    """Analyse every file named by `paths`: for script syntax, directories are searched for
+    """Analyse every file named by `paths`: for script syntax, folders are searched for
     `*.script` files (`discover_scripts`); thesis JSON is read from the files named only.
     `-` reads `stdin()`. A path that does not exist raises ReadError before anything is read;
     a file that cannot be read is recorded in `Run.problems` and the others go on."""
-    missing = [p for p in paths if p != "-" and not os.path.lexists(p)]
-    if missing:
-        raise ReadError(f"`{missing[0]}` does not exist")
-    files = discover_scripts(paths) if kind == "script" else list(dict.fromkeys(paths))
+    files = discover_scripts(paths, search_folders=kind == "script")
     run = Run()
     for path in files:
         try:

@@ -9,9 +9,13 @@ editor: `SourceFile.position(offset)` gives 1-based line and column in code poin
 from __future__ import annotations
 
 import bisect
+import re
 from dataclasses import dataclass
 from functools import cached_property
 from typing import NamedTuple
+
+
+_LINE_BREAK = re.compile(r"\r\n|\r|\n")
 
 
 class Span(NamedTuple):
@@ -65,10 +69,7 @@ class SourceFile:
                 starts.append(i + 1)
                 i = text.find("\n", i + 1)
             return starts
-        n = len(text)
-        for j, ch in enumerate(text):
-            if ch == "\n" or (ch == "\r" and (j + 1 >= n or text[j + 1] != "\n")):
-                starts.append(j + 1)
+        starts.extend(m.end() for m in _LINE_BREAK.finditer(text))
         return starts
 
     def line_of(self, offset: int) -> int:

@@ -5,5 +5,6 @@ choosing output paths and writing files are the driver's; formatting diagnostics
 `scriptc.diagnostics.render`'s.
 
 Exit status, for every verb: 0 no errors (warnings alone pass), 1 errors found, 2 a usage
-problem, an unreadable file or an internal error (never a traceback).
+problem, an unreadable file or an internal error (never a traceback; SCRIPTC_DEBUG=1 shows
+it), 130 interrupted (Ctrl-C, as shells count it).
 """

@@ -10,8 +10,7 @@ from typing import IO
 import click
 
 from scriptc import driver
-
-FORMATS = ("text", "json", "sarif", "github")
+from scriptc.diagnostics.render import FORMATS, render
 
 
 class CliError(click.ClickException):
@@ -34,7 +33,7 @@ def stdin_name_option(function):
 
 
 def read_stdin() -> bytes:
-    return click.get_binary_stream("stdin").read()
+    return sys.stdin.buffer.read()
 
 
 def load(path: str, kind: str, stdin_name: str = "<stdin>") -> driver.Analysis:
@@ -47,9 +46,12 @@ def load(path: str, kind: str, stdin_name: str = "<stdin>") -> driver.Analysis:
         raise CliError(str(exc)) from None
 
 
-def use_color(mode: str, stream: IO[str]) -> bool:
-    """`--color`: always, never, or auto: NO_COLOR turns colour off, FORCE_COLOR on, and
-    otherwise colour goes to a terminal only (https://no-color.org, force-color.org)."""
+def use_color(stream: IO[str]) -> bool:
+    """The group's `--color`: always, never, or auto: NO_COLOR turns colour off, FORCE_COLOR
+    on, and otherwise colour goes to a terminal only (no-color.org, force-color.org)."""
+    ctx = click.get_current_context(silent=True)
+    obj = ctx.find_root().obj if ctx is not None else None
+    mode = obj.get("color", "auto") if isinstance(obj, dict) else "auto"
     if mode != "auto":
         return mode == "always"
     if os.environ.get("NO_COLOR"):
@@ -62,12 +64,6 @@ def use_color(mode: str, stream: IO[str]) -> bool:
         return stream.isatty()
     except (AttributeError, ValueError):
         return False
-
-
-def color_mode() -> str:
-    ctx = click.get_current_context(silent=True)
-    obj = ctx.find_root().obj if ctx is not None else None
-    return obj.get("color", "auto") if isinstance(obj, dict) else "auto"
 
 
 def write(text: str, *, err: bool = False) -> None:
@@ -85,17 +81,15 @@ def write(text: str, *, err: bool = False) -> None:
 
 def write_bytes(data: bytes) -> None:
     """Write bytes to stdout unchanged (machine-readable output is always UTF-8)."""
-    stream = click.get_binary_stream("stdout")
+    stream = sys.stdout.buffer
     stream.write(data)
     stream.flush()
 
 
 def show(results: list[driver.Analysis], format_: str = "text", *, err: bool = False) -> None:
     """Render diagnostics (text to a terminal in colour when `--color` allows it)."""
-    from scriptc.diagnostics.render import render
-
     stream = sys.stderr if err else sys.stdout
-    output = render(format_, results, color=format_ == "text" and use_color(color_mode(), stream))
+    output = render(format_, results, color=format_ == "text" and use_color(stream))
     if format_ == "text":
         write(output, err=err)
     else:
@@ -117,3 +111,19 @@ def refuse_overwriting_input(input_path: str, output_path: str) -> None:
     if driver.same_file(input_path, output_path):
         raise CliError(f"the output `{output_path}` is the input file itself: refusing to "
                        "overwrite it (choose another file with -o)")
+
+
+def report_paths(ctx: click.Context, paths: tuple[str, ...], kind: str, format_: str,
+                 stdin_name: str) -> None:
+    """`lint` and `check`: analyse the paths, show the diagnostics on stdout, exit with the
+    run's status (a file that cannot be read is named on stderr and makes it 2)."""
+    try:
+        run = driver.analyze_paths(paths, kind, stdin=read_stdin, stdin_name=stdin_name)
+    except driver.ReadError as exc:
+        raise CliError(str(exc)) from None
+    for problem in run.problems:
+        write(f"error: {problem}\n", err=True)
+    if not run.results and not run.problems:
+        write("warning: no script files found under the given paths\n", err=True)
+    show(run.results, format_)
+    ctx.exit(run.exit_code)

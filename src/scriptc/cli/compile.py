@@ -24,7 +24,12 @@ from scriptc.cli._shell import load, refuse_overwriting_input, show, stdin_name_
 @click.pass_context
 def command(ctx: click.Context, file: str, output: str | None, back_end: str,
             stdin_name: str) -> None:
-    """Compile a script (- for stdin) to thesis JSON."""
+    """Compile a script (- for stdin) to thesis JSON.
+
+    Without -o the output goes beside FILE with the back end's suffix (dance.script ->
+    dance.json), or to stdout when FILE is -. Nothing is written when the script has errors,
+    and never over FILE itself. Diagnostics go to stderr.
+    """
     output = output or driver.default_output(file, back_end)
     refuse_overwriting_input(file, output)
     analysis = load(file, "script", stdin_name)

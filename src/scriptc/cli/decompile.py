@@ -20,7 +20,12 @@ from scriptc.cli._shell import load, refuse_overwriting_input, show, stdin_name_
 @stdin_name_option
 @click.pass_context
 def command(ctx: click.Context, file: str, output: str, stdin_name: str) -> None:
-    """Turn a thesis JSON file (- for stdin) back into script syntax."""
+    """Turn a thesis JSON file (- for stdin) back into script syntax.
+
+    The script goes to stdout, or to OUT. It is written whenever the JSON reads into a script,
+    even when the checks find errors in it (the exit status is then 1). Diagnostics go to
+    stderr.
+    """
     refuse_overwriting_input(file, output)
     analysis = load(file, "json", stdin_name)
     show([analysis], err=True)

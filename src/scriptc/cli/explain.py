@@ -10,7 +10,7 @@ import sys
 
 import click
 
-from scriptc.cli._shell import CliError, color_mode, use_color, write, write_bytes
+from scriptc.cli._shell import CliError, use_color, write, write_bytes
 
 
 @click.command("explain")
@@ -51,15 +51,15 @@ def command(code: str | None, all_: bool, format_: str) -> None:
     heading = f"{entry.code} ({entry.name}): {entry.summary}"
     if entry.retired:
         heading += " (retired)"
-    body = entry.explanation or "(no explanation has been written for this code yet)\n"
-    if use_color(color_mode(), sys.stdout):
+    body = (entry.explanation or "(no explanation has been written for this code yet)").rstrip()
+    if use_color(sys.stdout):
         from rich.console import Console
         from rich.markdown import Markdown
 
-        console = Console(no_color=False, highlight=False)
+        console = Console(force_terminal=True, no_color=False, highlight=False)
         console.print(heading, style="bold", markup=False)
         console.print(f"default severity: {entry.severity.value}", markup=False)
         console.print()
         console.print(Markdown(body))
         return
-    write(f"{heading}\ndefault severity: {entry.severity.value}\n\n{body}")
+    write(f"{heading}\ndefault severity: {entry.severity.value}\n\n{body}\n")

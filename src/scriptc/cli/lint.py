@@ -10,8 +10,7 @@ from __future__ import annotations
 
 import click
 
-from scriptc import driver
-from scriptc.cli._shell import CliError, format_option, read_stdin, show, stdin_name_option, write
+from scriptc.cli._shell import format_option, report_paths, stdin_name_option
 
 
 @click.command("lint")
@@ -20,15 +19,6 @@ from scriptc.cli._shell import CliError, format_option, read_stdin, show, stdin_
 @stdin_name_option
 @click.pass_context
 def command(ctx: click.Context, paths: tuple[str, ...], format_: str, stdin_name: str) -> None:
-    """Report the diagnostics of scripts: files, folders (every *.script inside, recursively)
-    or - for stdin."""
-    try:
-        run = driver.analyze_paths(paths, "script", stdin=read_stdin, stdin_name=stdin_name)
-    except driver.ReadError as exc:
-        raise CliError(str(exc)) from None
-    for problem in run.problems:
-        write(f"error: {problem}\n", err=True)
-    if not run.results and not run.problems:
-        write("warning: no script files found under the given paths\n", err=True)
-    show(run.results, format_)
-    ctx.exit(run.exit_code)
+    """Report the diagnostics of scripts: files, folders (every *.script inside,
+    recursively) or - for stdin."""
+    report_paths(ctx, paths, "script", format_, stdin_name)

@@ -84,8 +84,8 @@ def report_internal_error(exc: BaseException) -> None:
 def cli(ctx: click.Context, color: str) -> None:
     """scriptc: the compiler toolchain of the robot activity language.
 
-    Exit status: 0 no errors, 1 errors found, 2 usage problem, unreadable file or internal
-    error.
+    Exit status: 0 no errors (warnings alone pass), 1 errors found, 2 usage problem,
+    unreadable file or internal error, 130 interrupted.
     """
     ctx.ensure_object(dict)["color"] = color
 

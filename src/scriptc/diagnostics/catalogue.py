@@ -41,7 +41,8 @@ def render_catalogue() -> str:
         "|---|---|---|---|",
     ]
     for c in codes:
-        out.append(f"| [{c.code}](#{c.code.lower()}) | `{c.name}` | {c.severity.value} | {c.summary.replace('|', '\\|')} |")
+        summary = c.summary.replace("|", "\\|")
+        out.append(f"| [{c.code}](#{c.code.lower()}) | `{c.name}` | {c.severity.value} | {summary} |")
     family = None
     for c in codes:
         if c.code[0] != family:

@@ -93,6 +93,14 @@ def _cell(ch: str) -> tuple[str, int]:
     return ch, 2 if unicodedata.east_asian_width(ch) in ("W", "F") else 1
 
 
+def _visible(text: str) -> str:
+    """A message made safe for a terminal the way source lines are (`_cell`): messages quote
+    the user's text (paths, strings), which may hold escape or bidi characters."""
+    if text.isprintable():
+        return text
+    return "".join(_cell(ch)[0] for ch in text)
+
+
 class _Annotation:
     __slots__ = ("line", "start", "end", "marker", "message", "style")
 
@@ -114,7 +122,10 @@ def _snippet_line(text: str, annotations: list[_Annotation]) -> tuple[str, list[
     """The displayed line and, per annotation, its display column and width."""
     lo, hi = 0, len(text)
     if hi > MAX_LINE:
-        lo = max(0, min(a.start for a in annotations) - _CONTEXT)
+        first = min(a.start for a in annotations)
+        last = max(a.end for a in annotations)
+        # Some context before the first annotation, less when that brings the last one in.
+        lo = max(0, min(first, max(first - _CONTEXT, last + 5 - MAX_LINE)))
         hi = min(hi, lo + MAX_LINE)
     shown: list[str] = ["..."] if lo > 0 else []
     columns = [3 if lo > 0 else 0]  # display column at which each character of the window starts
@@ -158,8 +169,9 @@ def _diagnostic_lines(source: SourceFile, d: Diagnostic) -> list[_Line]:
 
     pos = source.position(d.span.start)
     out: list[_Line] = [
-        [(f"{d.severity.value}[{d.code}]", severity_style), (": ", _BOLD), (d.message, _BOLD)],
-        [(f"{pad}--> ", _FRAME), (f"{source.path}:{pos.line}:{pos.column}", None)],
+        [(f"{d.severity.value}[{d.code}]", severity_style), (": ", _BOLD),
+         (_visible(d.message), _BOLD)],
+        [(f"{pad}--> ", _FRAME), (f"{_visible(source.path)}:{pos.line}:{pos.column}", None)],
         [(f"{pad} |", _FRAME)],
     ]
     previous = None
@@ -176,7 +188,7 @@ def _diagnostic_lines(source: SourceFile, d: Diagnostic) -> list[_Line]:
         for a, (column, length) in zip(here, places):
             row = [(f"{pad} | ", _FRAME), (" " * column + a.marker * length, a.style)]
             if a.message:
-                row.append((" " + a.message, a.style))
+                row.append((" " + _visible(a.message), a.style))
             out.append(row)
 
     extras: list[tuple[str, str]] = []
@@ -185,12 +197,12 @@ def _diagnostic_lines(source: SourceFile, d: Diagnostic) -> list[_Line]:
     extras += [("note", note) for note in d.notes]
     if d.help:
         extras.append(("help", d.help))
-    if d.fix is not None and d.fix.message != d.help:
+    if d.fix is not None and not d.help:  # a help says it already; the fix is for editors
         extras.append(("help", d.fix.message))
     if extras:
         out.append([(f"{pad} |", _FRAME)])
     for kind, message in extras:
-        first, *rest = message.splitlines() or [""]
+        first, *rest = [_visible(part) for part in message.splitlines()] or [""]
         out.append([(f"{pad} = ", _FRAME), (f"{kind}:", _BOLD), (f" {first}", None)])
         indent = " " * (len(kind) + 2)
         out += [[(f"{pad}   {indent}{more}", None)] for more in rest]
@@ -306,27 +318,34 @@ def render_json(results: Sequence[Any]) -> str:
 # sarif
 
 SARIF_SCHEMA = "https://json.schemastore.org/sarif-2.1.0.json"
-# FIXME: the project has no public home yet; set this (and pyproject's urls) when it does.
-INFORMATION_URI = "https://github.com/scriptc/scriptc"
+# `informationUri` is optional in SARIF and the project has no public address to give, so the
+# driver names itself and its version only.
 _SARIF_LEVEL = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "note"}
 
 
-def artifact_uri(path: str) -> str:
-    """A SARIF artifact URI for a shown path: relative paths stay relative (forward slashes,
-    percent-encoded), absolute ones are made relative to the working folder when inside it
-    and become `file://` URIs otherwise."""
+def _relative(path: str) -> str | None:
+    """A shown path relative to the working folder with forward slashes, or None for an
+    absolute path outside it (CI services want paths relative to the checkout)."""
     import os
-    from pathlib import Path
-    from urllib.parse import quote
 
     if os.path.isabs(path):
         try:
             path = os.path.relpath(path)
         except ValueError:  # another drive on Windows
-            return Path(path).as_uri()
-        if path.startswith(".."):
-            return Path(os.path.abspath(path)).as_uri()
-    return quote(path.replace(os.sep, "/").replace("\\", "/"), safe="/")
+            return None
+        if path == ".." or path.startswith(".." + os.sep):
+            return None
+    return path.replace(os.sep, "/").replace("\\", "/")
+
+
+def artifact_uri(path: str) -> str:
+    """A SARIF artifact URI for a shown path: relative (percent-encoded, forward slashes)
+    when it is inside the working folder, a `file://` URI otherwise."""
+    from pathlib import Path
+    from urllib.parse import quote
+
+    relative = _relative(path)
+    return Path(path).absolute().as_uri() if relative is None else quote(relative, safe="/")
 
 
 def _section(markdown: str, title: str) -> str:
@@ -397,7 +416,7 @@ def render_sarif(results: Sequence[Any]) -> str:
             }
             if d.path is not None:
                 result["locations"][0]["logicalLocations"] = [
-                    {"fullyQualifiedName": d.path, "kind": "element"}]
+                    {"fullyQualifiedName": d.path, "kind": "value"}]
             if d.labels:
                 result["relatedLocations"] = [{"id": i, **location(label.span, label.message)}
                                               for i, label in enumerate(d.labels)]
@@ -426,7 +445,6 @@ def render_sarif(results: Sequence[Any]) -> str:
             "tool": {"driver": {
                 "name": "scriptc",
                 "version": __version__,
-                "informationUri": INFORMATION_URI,
                 "rules": [_sarif_rule(code) for code in codes],
             }},
             # Our columns count code points, not SARIF's default UTF-16 code units.
@@ -456,7 +474,7 @@ def _escape_property(text: str) -> str:
 def render_github(results: Sequence[Any]) -> str:
     out = []
     for source, diagnostics in _pairs(results):
-        path = source.path.replace("\\", "/")
+        path = _relative(source.path) or source.path
         for d in diagnostics:
             r = _region(source, d.span)
             properties = ",".join(f"{key}={_escape_property(str(value))}" for key, value in (

@@ -1,0 +1,68 @@
+"""Cold start: `scriptc lint` imports only what linting uses. pygls (~0.4 s), mujoco and
+jsonschema are for other verbs, and rich only colours a terminal (toolchain-facts.md, "Import
+costs"). Each check runs the CLI in a fresh interpreter and looks at sys.modules at exit."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+SCRIPT = "[clean_act]\n[goal:g]\n[action]\n[b##blk_inst: MV() LD() AO()]\n[b##blk_terminus]\n"
+HEAVY = ("pygls", "lsprotocol", "mujoco", "jsonschema", "rich", "hypothesis")
+
+PROBE = """
+import json, sys
+from scriptc.cli.main import main
+sys.argv = ["scriptc", *json.loads(sys.argv[1])]
+try:
+    main()
+except SystemExit:
+    pass
+sys.stdout.flush()
+sys.__stderr__.write("\\nMODULES " + json.dumps(sorted({m.split(".")[0] for m in sys.modules})))
+"""
+
+
+def loaded_after(args: list[str], cwd: Path) -> set[str]:
+    env = {k: v for k, v in os.environ.items() if k not in ("FORCE_COLOR", "NO_COLOR")}
+    done = subprocess.run([sys.executable, "-c", PROBE, json.dumps(args)], capture_output=True,
+                          text=True, cwd=cwd, env=env, timeout=60)
+    marker = done.stderr.rindex("MODULES ")
+    return set(json.loads(done.stderr[marker + len("MODULES "):]))
+
+
+@pytest.fixture
+def folder(tmp_path: Path) -> Path:
+    (tmp_path / "a.script").write_text(SCRIPT, encoding="utf-8")
+    (tmp_path / "b.script").write_text(SCRIPT.replace("[action]\n", ""), encoding="utf-8")
+    return tmp_path
+
+
+@pytest.mark.parametrize("args", [
+    ["lint", "a.script"],
+    ["lint", "b.script"],  # with errors to render
+    ["lint", "."],
+    ["lint", "b.script", "--format", "json"],
+    ["lint", "b.script", "--format", "github"],
+    ["compile", "a.script", "-o", "-"],
+])
+def test_lint_and_compile_stay_light(folder: Path, args: list[str]) -> None:
+    loaded = loaded_after(args, folder)
+    assert "scriptc" in loaded and "click" in loaded  # the probe did run the CLI
+    assert not loaded & set(HEAVY), f"`scriptc {' '.join(args)}` imported {loaded & set(HEAVY)}"
+
+
+def test_version_and_help_do_not_load_the_compiler(folder: Path) -> None:
+    for args in (["--version"], ["--help"]):
+        loaded = loaded_after(args, folder)
+        assert not loaded & {"lark", *HEAVY}, loaded & {"lark", *HEAVY}
+
+
+def test_colour_on_demand_loads_rich(folder: Path) -> None:
+    """The probe can tell: asking for colour does import rich."""
+    assert "rich" in loaded_after(["--color", "always", "lint", "b.script"], folder)
