@@ -181,7 +181,7 @@ def describe(error: UnexpectedInput, text: str, base: int, parser: Lark) -> Diag
             at = token.start_pos if token.start_pos is not None else 0
             found = str(token)
             shown = f"`{found}`"
-        return _expected(parser, expected, text, base, at, found, shown)
+        return _expected(parser, expected, text, base, at, found, shown, found_type=_bare(token.type))
     if isinstance(error, UnexpectedCharacters):
         at = error.pos_in_stream
         ch = text[at] if at < len(text) else ""
@@ -203,9 +203,23 @@ def describe(error: UnexpectedInput, text: str, base: int, parser: Lark) -> Diag
     return diagnostic("P001", "syntax error", Span(base, base + len(text)))
 
 
-def _expected(parser, expected, text, base, at, found, shown, code="P001") -> Diagnostic:
+# Tokens that can be an element of a list: met where `,` or a closer was expected, they mean
+# a forgotten comma more often than a forgotten closer (`gt(1 2)`).
+_ELEMENTS = {"NUMBER", "STRING", "ALIAS", "THIS", "VAR_REF", "NAME"}
+
+
+def _expected(parser, expected, text, base, at, found, shown, code="P001", found_type="") -> Diagnostic:
     span = Span(base + at, base + at + len(found))
     bare = {_bare(n) for n in expected}
+    if "COMMA" in bare and found_type in _ELEMENTS:
+        closers_expected = [w for w in _words(parser, expected) if w != "`,`"]
+        return diagnostic(
+            code,
+            f"expected `,` or {_join(closers_expected)}, found {shown}",
+            span,
+            help="separate the elements of a list with `,`",
+            fix=Fix("insert `,`", (TextEdit(Span(span.start, span.start), ", "),), safe=False),
+        )
     closers = {"RPAR": ")", "RBRACE": "}", "RSQB": "]"}
     opened = _open_delimiter(text, at)
     if opened is not None:
