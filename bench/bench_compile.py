@@ -1,5 +1,5 @@
 """Compile speed: a generated ~1 MB script (10,000 blocks, half of them jumps with conditions)
-end to end (read, scan, parse, lower, check, emit JSON), beside lark's raw parse of the same
+end to end (scan, parse, lower, check, emit JSON: the driver's functions that `scriptc compile` calls), beside lark's raw parse of the same
 items, and the growth from 0.1 MB to 1 MB (10x the input should cost at most ~11x the time).
 
     python bench/bench_compile.py [--runs N]
@@ -18,8 +18,7 @@ sys.path.insert(0, str(Path(__file__).parent))
 
 from generate import big_script  # noqa: E402
 
-from scriptc.driver import analyze_script  # noqa: E402
-from scriptc.emit.json import emit_json  # noqa: E402
+from scriptc.driver import analyze_script, emit  # noqa: E402
 from scriptc.source import SourceFile  # noqa: E402
 from scriptc.syntax.parser import script_parser  # noqa: E402
 from scriptc.syntax.scan import scan  # noqa: E402
@@ -37,7 +36,7 @@ def best(fn, runs: int) -> float:
 def compile_text(text: str) -> str:
     analysis = analyze_script(SourceFile("big.script", text))
     assert analysis.ok, analysis.diagnostics[:3]
-    return emit_json(analysis.script)
+    return emit(analysis.script, "json")
 
 
 def main() -> None:

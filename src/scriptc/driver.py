@@ -10,6 +10,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from scriptc.diagnostics.model import Diagnostic, has_errors
+from scriptc.gcpause import gc_paused
 from scriptc.ir.builtins import STANDARD, FunctionRegistry
 from scriptc.ir.nodes import Script
 from scriptc.source import SourceFile
@@ -47,16 +48,18 @@ def analyze_script(source: SourceFile, functions: FunctionRegistry = STANDARD) -
     """Parse, lower and check script syntax."""
     from scriptc.ir.lower import lower_script
 
-    script, front = lower_script(source)
-    return _finish(source, script, front, functions)
+    with gc_paused():
+        script, front = lower_script(source)
+        return _finish(source, script, front, functions)
 
 
 def analyze_json(source: SourceFile, functions: FunctionRegistry = STANDARD) -> Analysis:
     """Read thesis JSON (schema, then IR) and run the same checks as for script syntax."""
     from scriptc.ir.from_json import script_from_json
 
-    script, front = script_from_json(source)
-    return _finish(source, script, front, functions)
+    with gc_paused():
+        script, front = script_from_json(source)
+        return _finish(source, script, front, functions)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -254,7 +257,8 @@ def emit(script: Script, back_end: str = "json") -> str:
     import importlib
 
     _suffix, module, function = EMITTERS[back_end]
-    return getattr(importlib.import_module(module), function)(script)
+    with gc_paused():
+        return getattr(importlib.import_module(module), function)(script)
 
 
 def decompile(script: Script) -> str:
