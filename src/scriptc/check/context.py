@@ -41,7 +41,7 @@ class Context:
     def is_script_syntax(self) -> bool:
         """True when the source is script syntax, False for thesis JSON (whose spans point
         into JSON text, where a fix written in script syntax would make no sense)."""
-        return not self.source.text.lstrip().startswith("{")
+        return not self.source.text.lstrip("\ufeff \t\r\n").startswith("{")
 
     @cached_property
     def addressed_blocks(self) -> list[tuple[tuple[int, int, int], Block]]:

@@ -29,7 +29,13 @@ AUDIO_FIELDS = ("track_path", "wait_t", "duration")
 RULE_FIELDS = ("rulecode", "id", "intopic", "outtopic", "action", "mutex")
 TRACKS = ("MV", "LD", "AO")
 _ESCAPE = re.compile(r"\\(.)", re.DOTALL)
+_KNOWN_ESCAPE = re.compile(r'\\([\\"])')
 _TRUE_EVAL = re.compile(r"\{\s*TRUE\s*\}")
+
+
+def _unescape(text: str) -> str:
+    """Resolve `\\\\` and `\\"`; other escapes stay as written (P006 reported them)."""
+    return _KNOWN_ESCAPE.sub(r"\1", text) if "\\" in text else text
 
 
 _KINDS: dict[str, str] = {}
@@ -380,35 +386,27 @@ class _Lowerer:
         )
 
     def command(self, track: str, token: Token) -> ir.Command | None:
-        """Split a command string into its fields, each with its own span."""
-        text = self.string(token)
+        """Split a command string into its fields, each with its own span. The raw text is
+        split (neither escape holds a comma), so spans are exact and blanks inside a field,
+        such as an audio path's, are kept; each field is unescaped afterwards."""
+        self.string(token)  # reports unknown escapes once, for the whole string
         raw = str(token)[1:-1]
         start = self.span(token).start + 1
-        if "\\" in raw:
-            # Fields of a string with escapes cannot be located exactly: use the whole string.
-            fields = [(f.strip(), self.span(token)) for f in text.value.split(",")]
-        else:
-            fields = []
-            pos = 0
-            for part in raw.split(","):
-                lead = len(part) - len(part.lstrip())
-                stripped = part.strip()
-                at = start + pos + lead
-                fields.append((stripped, Span(at, at + len(stripped))))
-                pos += len(part) + 1
+        fields = []
+        pos = 0
+        for part in raw.split(","):
+            lead = len(part) - len(part.lstrip())
+            stripped = part.strip()
+            at = start + pos + lead
+            fields.append((stripped, Span(at, at + len(stripped))))
+            pos += len(part) + 1
         whole = self.span(token)
         if track == "AO":
             names = AUDIO_FIELDS
             if len(fields) >= 3:
                 path_fields = fields[:-2]
-                path_text = ",".join(f for f, _ in path_fields) if "\\" in raw else None
-                if path_text is None:
-                    p0, p1 = path_fields[0][1].start, path_fields[-1][1].end
-                    path_text = self.text[p0:p1]
-                    path = ir.Text(path_text, Span(p0, p1))
-                else:
-                    path = ir.Text(path_text, whole)
-                fields = [(path.value, path.span)] + fields[-2:]
+                p0, p1 = path_fields[0][1].start, path_fields[-1][1].end
+                fields = [(self._text(Span(p0, p1)), Span(p0, p1))] + fields[-2:]
         else:
             names = MOVE_FIELDS if track == "MV" else LED_FIELDS
         if len(fields) != len(names) or (len(fields) == 1 and not fields[0][0]):
@@ -432,7 +430,7 @@ class _Lowerer:
             return ir.MoveCommand(*numbers, span=whole)
         if track == "LD":
             return ir.LedCommand(*numbers, span=whole)
-        return ir.AudioCommand(ir.Text(fields[0][0], fields[0][1]), *numbers, span=whole)
+        return ir.AudioCommand(ir.Text(_unescape(fields[0][0]), fields[0][1]), *numbers, span=whole)
 
     # -- conditions -----------------------------------------------------------------------
 

@@ -52,7 +52,7 @@ class Number:
     def is_integer_text(self) -> bool:
         """True when the text is a whole number written without fraction or exponent."""
         t = self.text.lstrip("+-")
-        return t.isdigit()
+        return t.isascii() and t.isdigit()
 
     @property
     def is_finite(self) -> bool:

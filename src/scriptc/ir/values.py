@@ -14,7 +14,8 @@ from scriptc.source import Span
 
 # LANGUAGE.md: decimal, optional sign and fraction. An exponent is accepted too (C++'s stof,
 # which read these fields on the robot, accepts it); ranges are checked by the checker.
-NUMBER_RE = re.compile(r"[+-]?(\d+(\.\d*)?|\.\d+)([eE][+-]?\d+)?")
+# ASCII digits only: `\d` would also accept digits of other scripts, which the robot cannot read.
+NUMBER_RE = re.compile(r"[+-]?([0-9]+(\.[0-9]*)?|\.[0-9]+)([eE][+-]?[0-9]+)?")
 _NON_FINITE = re.compile(r"[+-]?(nan|inf|infinity)", re.IGNORECASE)
 
 

@@ -8,19 +8,19 @@ offsets `scriptc.source.Span` uses everywhere. Errors raise `JsonError` with the
 offending text, its line and column, and a message that says what was expected.
 
 Choices beyond RFC 8259, each for a reason:
-- duplicate keys are an error (RFC 8259 leaves their meaning open; the robot's loader would
-  keep one of them silently, so the other is a mistake nobody would see);
+- duplicate keys are an error (RFC 8259 leaves their meaning open; JSON loaders commonly keep
+  one of the two silently, so the other would be a mistake nobody sees);
 - `NaN`, `Infinity` and `-Infinity` are errors with a message of their own (Python writes them);
 - a `\\u` escape of half a surrogate pair is an error (the text could not be written as UTF-8);
-- a leading byte order mark is skipped (Windows editors write one; the robot's loader, nlohmann
-  json, skips it too).
+- a leading byte order mark is skipped (some Windows editors write one; it is an encoding mark,
+  not part of the document).
 """
 
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass, field
 
+from scriptc.gcpause import gc_paused
 from scriptc.source import SourceFile, Span
 
 __all__ = ["JsonNode", "Member", "JsonError", "parse_json", "string_offsets"]
@@ -29,13 +29,23 @@ __all__ = ["JsonNode", "Member", "JsonError", "parse_json", "string_offsets"]
 _EMPTY: list = []  # shared by scalars; never appended to
 
 
-@dataclass(slots=True, eq=False)
 class Member:
     """One `"key": value` pair of an object; `key_span` covers the key with its quotes."""
 
-    key: str
-    key_span: Span
-    value: JsonNode
+    __slots__ = ("key", "key_start", "key_end", "value")
+
+    def __init__(self, key: str, key_start: int, key_end: int, value: JsonNode) -> None:
+        self.key = key
+        self.key_start = key_start
+        self.key_end = key_end
+        self.value = value
+
+    @property
+    def key_span(self) -> Span:
+        return Span(self.key_start, self.key_end)
+
+    def __repr__(self) -> str:
+        return f"Member({self.key!r}, {self.value!r})"
 
 
 class JsonNode:
@@ -47,27 +57,33 @@ class JsonNode:
     value, quotes and brackets included. Objects keep their members in document order.
     """
 
-    # A plain slotted class rather than a dataclass: a large file makes hundreds of thousands
-    # of nodes, and only containers need the two lists.
-    __slots__ = ("kind", "span", "value", "raw", "items", "members")
+    # A plain slotted class holding offsets rather than a dataclass holding a Span: a large
+    # file makes hundreds of thousands of nodes, and allocation is most of the parse time.
+    __slots__ = ("kind", "start", "end", "value", "raw", "items", "members")
 
-    def __init__(self, kind: str, span: Span, value: object = None, raw: str = "") -> None:
+    def __init__(self, kind: str, start: int, end: int, value: object = None,
+                 raw: str = "") -> None:
         self.kind = kind
-        self.span = span
+        self.start = start
+        self.end = end
         self.value = value
         self.raw = raw
         self.items: list[JsonNode] = [] if kind == "array" else _EMPTY
         self.members: list[Member] = [] if kind == "object" else _EMPTY
 
     def __repr__(self) -> str:
-        return f"JsonNode({self.kind}, {self.span.start}-{self.span.end})"
+        return f"JsonNode({self.kind}, {self.start}-{self.end})"
+
+    @property
+    def span(self) -> Span:
+        return Span(self.start, self.end)
 
     @property
     def content_span(self) -> Span:
         """A string's span without its quotes (the whole span for other kinds)."""
         if self.kind == "string":
-            return Span(self.span.start + 1, self.span.end - 1)
-        return self.span
+            return Span(self.start + 1, self.end - 1)
+        return Span(self.start, self.end)
 
     def get(self, key: str) -> JsonNode | None:
         for m in self.members:
@@ -89,32 +105,36 @@ class JsonNode:
             return self.items[step]
         return None
 
-    def to_python(self) -> object:
+    def to_python(self, max_depth: int | None = None) -> object:
         """The plain Python value (dict, list, str, int, float, bool, None), built without
-        recursion so a deeply nested document converts as well as it parsed."""
+        recursion so a deeply nested document converts as well as it parsed. With
+        `max_depth`, containers nested deeper than that are left empty: a shallow copy for
+        code that recurses (jsonschema, `repr`) and looks no deeper anyway."""
         if self.kind not in ("object", "array"):
             return self.value
         root: object = {} if self.kind == "object" else []
-        stack: list[tuple[JsonNode, object]] = [(self, root)]
+        stack: list[tuple[JsonNode, object, int]] = [(self, root, 0)]
         while stack:
-            node, out = stack.pop()
+            node, out, depth = stack.pop()
+            if max_depth is not None and depth >= max_depth:
+                continue
             if node.kind == "object":
                 for m in node.members:
-                    out[m.key] = _shell(m.value, stack)  # type: ignore[index]
+                    out[m.key] = _shell(m.value, stack, depth + 1)  # type: ignore[index]
             else:
                 for item in node.items:
-                    out.append(_shell(item, stack))  # type: ignore[union-attr]
+                    out.append(_shell(item, stack, depth + 1))  # type: ignore[union-attr]
         return root
 
 
-def _shell(node: JsonNode, stack: list) -> object:
+def _shell(node: JsonNode, stack: list, depth: int) -> object:
     if node.kind == "object":
         out: object = {}
     elif node.kind == "array":
         out = []
     else:
         return node.value
-    stack.append((node, out))
+    stack.append((node, out, depth))
     return out
 
 
@@ -221,8 +241,8 @@ def string_offsets(text: str, node: JsonNode) -> list[int]:
     one more entry for the offset of the closing quote. Lets a caller that parses the string's
     value (a `toparse` condition) report positions in the JSON file even across escapes."""
     offsets: list[int] = []
-    pos = node.span.start + 1
-    end = node.span.end - 1
+    pos = node.start + 1
+    end = node.end - 1
     while pos < end:
         if text[pos] != "\\":
             offsets.append(pos)
@@ -244,7 +264,7 @@ def _scalar(text: str, pos: int) -> tuple[JsonNode, int]:
     ch = text[pos] if pos < n else ""
     if ch == '"':
         value, end = _parse_string(text, pos)
-        return JsonNode("string", Span(pos, end), value), end
+        return JsonNode("string", pos, end, value), end
     if ch and (ch == "-" or ch.isdigit() or ch in "+."):
         if text.startswith("-Infinity", pos):
             raise JsonError("`-Infinity` is not a JSON number: JSON numbers are finite",
@@ -265,17 +285,14 @@ def _scalar(text: str, pos: int) -> tuple[JsonNode, int]:
         raw = m.group()
         end = m.end()
         value: object = float(raw) if m.group(1) or m.group(2) else int(raw)
-        return JsonNode("number", Span(pos, end), value, raw), end
+        return JsonNode("number", pos, end, value, raw), end
     w = _WORD.match(text, pos)
     if w is not None:
         word = w.group()
         span = Span(pos, w.end())
-        if word == "true":
-            return JsonNode("boolean", span, True), span.end
-        if word == "false":
-            return JsonNode("boolean", span, False), span.end
-        if word == "null":
-            return JsonNode("null", span, None), span.end
+        if word in _LITERALS:
+            kind, value = _LITERALS[word]
+            return JsonNode(kind, pos, span.end, value), span.end
         if word in ("NaN", "Infinity"):
             raise JsonError(f"`{word}` is not a JSON number: JSON numbers are finite", span, text)
         if word in ("True", "False", "None"):
@@ -296,132 +313,201 @@ def _skip(text: str, pos: int) -> int:
     return _WS.match(text, pos).end()  # type: ignore[union-attr]
 
 
-def _unclosed(node: JsonNode, text: str) -> tuple[tuple[Span, str], ...]:
+def _unclosed(node: JsonNode) -> tuple[tuple[Span, str], ...]:
     what = "object" if node.kind == "object" else "array"
-    return ((Span(node.span.start, node.span.start + 1), f"this {what} is never closed"),)
+    return ((Span(node.start, node.start + 1), f"this {what} is never closed"),)
+
+
+# One token, whitespace before it skipped: the fast path of `parse_json`. Groups: 1 `{` or `[`,
+# 2 `}` or `]`, 3 `,`, 4 a string without escapes (its content), 5 a number (6 its fraction,
+# 7 its exponent), 8 `true`/`false`/`null`. Anything else goes to the careful path, which also
+# writes every error message.
+_TOKEN = re.compile(
+    r'[ \t\n\r]*(?:([{\[])|([}\]])|(,)|"([^"\\\x00-\x1f]*)"'
+    r"|(-?(?:0|[1-9][0-9]*)(\.[0-9]+)?([eE][+-]?[0-9]+)?)(?![-+0-9.eE])"
+    r"|(true|false|null)(?![A-Za-z0-9_]))"
+)
+_COLON = re.compile(r"[ \t\n\r]*:")
+_LITERALS = {"true": ("boolean", True), "false": ("boolean", False), "null": ("null", None)}
+_VALUE, _AFTER, _KEY = 0, 1, 2
 
 
 def parse_json(text: str) -> JsonNode:
     """Parse `text` (one JSON value, whitespace around it allowed). Raises `JsonError`."""
+    # The tree has no reference cycles: pausing the cyclic collector while it grows skips
+    # rescans that nearly doubled the time of a large file (see scriptc.gcpause).
+    with gc_paused():
+        return _parse(text)
+
+
+def _parse(text: str) -> JsonNode:
     n = len(text)
     pos = 1 if text.startswith("\ufeff") else 0
-    # Open containers, innermost last. For an object, `keys` maps each key to its span (for
-    # duplicate reports) and `key`/`key_span` hold the key whose value is being parsed.
+    # Open containers, innermost last; for each, the keys seen so far (objects: for duplicate
+    # reports) and the key whose value is being parsed.
     stack: list[JsonNode] = []
-    keys_stack: list[dict[str, Span]] = []
-    pending: list[tuple[str, Span] | None] = []
-    root: JsonNode | None = None
-    mode = "value"  # "value", "after" (a value ended), "key" (expect a key)
+    keys_stack: list[dict[str, int]] = []
+    pending: list[tuple[str, int, int] | None] = []
+    mode = _VALUE
     done: JsonNode | None = None
+    comma = -1  # where the last comma was (for the trailing-comma message)
+    token = _TOKEN.match
+    colon = _COLON.match
 
-    ws_match = _WS.match
     while True:
-        if pos < n and text[pos] in " \t\n\r":
-            pos = ws_match(text, pos).end()  # type: ignore[union-attr]
-        ch = text[pos] if pos < n else ""
-        if mode == "value":
-            if ch == "{" or ch == "[":
-                kind = "object" if ch == "{" else "array"
-                node = JsonNode(kind, Span(pos, pos + 1))
-                pos = _skip(text, pos + 1)
-                if text[pos : pos + 1] == _CLOSER[kind]:
-                    node.span = Span(node.span.start, pos + 1)
-                    pos += 1
-                    done = node
+        m = token(text, pos)
+        handled = False
+        if m is not None:
+            g = m.lastindex
+            if mode == _VALUE:
+                handled = True
+                if g == 4:
+                    end = m.end()
+                    done = JsonNode("string", m.start(4) - 1, end, m.group(4))
+                    pos = end
+                elif g == 5:
+                    raw = m.group(5)
+                    value: object = float(raw) if m.group(6) or m.group(7) else int(raw)
+                    done = JsonNode("number", m.start(5), m.end(), value, raw)
+                    pos = m.end()
+                elif g == 8:
+                    kind, value = _LITERALS[m.group(8)]
+                    done = JsonNode(kind, m.start(8), m.end(), value)
+                    pos = m.end()
+                elif g == 1:
+                    opener = m.group(1)
+                    kind = "object" if opener == "{" else "array"
+                    node = JsonNode(kind, m.start(1), m.end())
+                    pos = m.end()
+                    m2 = token(text, pos)
+                    if m2 is not None and m2.lastindex == 2 and m2.group(2) == _CLOSER[kind]:
+                        node.end = m2.end()
+                        pos = m2.end()
+                        done = node
+                    else:
+                        stack.append(node)
+                        keys_stack.append({})
+                        pending.append(None)
+                        mode = _KEY if kind == "object" else _VALUE
+                        continue
                 else:
-                    stack.append(node)
-                    keys_stack.append({})
-                    pending.append(None)
-                    mode = "key" if kind == "object" else "value"
+                    handled = False
+            elif mode == _AFTER:
+                container = stack[-1]
+                if g == 3:
+                    comma = m.end() - 1
+                    pos = m.end()
+                    mode = _KEY if container.kind == "object" else _VALUE
                     continue
-            else:
-                if ch and ch in "}]" and stack:
-                    container = stack[-1]
-                    if ch == _CLOSER[container.kind]:
-                        raise JsonError(f"a trailing comma before `{ch}`: JSON allows none",
-                                        Span(pos, pos + 1), text)
+                if g == 2 and m.group(2) == _CLOSER[container.kind]:
+                    container.end = m.end()
+                    pos = m.end()
+                    stack.pop()
+                    keys_stack.pop()
+                    pending.pop()
+                    done = container
+                    handled = True
+            elif g == 4:  # mode == _KEY
+                c = colon(text, m.end())
+                if c is not None:
+                    key = m.group(4)
+                    key_start = m.start(4) - 1
+                    seen = keys_stack[-1]
+                    if key in seen:
+                        _duplicate(text, key, Span(key_start, m.end()), seen[key])
+                    seen[key] = key_start
+                    pending[-1] = (key, key_start, m.end())
+                    pos = c.end()
+                    mode = _VALUE
+                    continue
+
+        if not handled:
+            # The careful path: strings with escapes, and every error.
+            pos = _skip(text, pos)
+            ch = text[pos] if pos < n else ""
+            _no_comment(text, pos)
+            if mode == _VALUE:
+                if ch and ch in "}]" and stack and ch == _CLOSER[stack[-1].kind]:
+                    raise JsonError(f"a comma before `{ch}`: JSON allows no trailing comma",
+                                    Span(comma, comma + 1), text,
+                                    ((Span(pos, pos + 1), f"`{ch}` follows the comma"),))
                 if ch == "" and stack:
                     raise JsonError("the file ends where a value was expected", Span(n, n), text,
-                                    _unclosed(stack[-1], text))
+                                    _unclosed(stack[-1]))
                 done, pos = _scalar(text, pos)
-        elif mode == "key":
-            container = stack[-1]
-            if ch == '"':
-                key_start = pos
-                key, pos = _parse_string(text, pos)
-                key_span = Span(key_start, pos)
-                seen = keys_stack[-1]
-                if key in seen:
-                    first = seen[key]
-                    first_pos = SourceFile("", text).position(first.start)
-                    raise JsonError(
-                        f"duplicate key `{key}` (first at line {first_pos.line}, "
-                        f"column {first_pos.column})",
-                        key_span, text, ((first, "first defined here"),))
-                seen[key] = key_span
-                pos = _skip(text, pos)
-                if text[pos : pos + 1] != ":":
-                    found = _shown(text[pos : pos + 1])
-                    raise JsonError(f"expected `:` after the key `{key}`, found {found}",
-                                    Span(pos, min(pos + 1, n)), text,
-                                    _unclosed(container, text) if pos >= n else ())
-                pending[-1] = (key, key_span)
-                pos += 1
-                mode = "value"
-                continue
-            if ch == "}":
-                raise JsonError("a trailing comma before `}`: JSON allows none",
-                                Span(pos, pos + 1), text)
-            if ch == "":
-                raise JsonError("the file ends inside an object", Span(n, n), text,
-                                _unclosed(container, text))
-            if ch == "'":
-                raise JsonError("JSON keys are strings in double quotes, not single quotes",
-                                Span(pos, pos + 1), text)
-            w = _WORD.match(text, pos)
-            found = f"`{w.group()}`" if w else _shown(ch)
-            span = Span(pos, w.end()) if w else Span(pos, pos + 1)
-            raise JsonError(f"expected a key in double quotes, found {found}", span, text)
-        else:  # mode == "after": a value inside a container has ended
-            container = stack[-1]
-            closer = _CLOSER[container.kind]
-            if ch == ",":
-                pos += 1
-                mode = "key" if container.kind == "object" else "value"
-                continue
-            if ch == closer:
-                container.span = Span(container.span.start, pos + 1)
-                pos += 1
-                stack.pop()
-                keys_stack.pop()
-                pending.pop()
-                done = container
-            else:
+            elif mode == _KEY:
+                container = stack[-1]
+                if ch == '"':
+                    key_start = pos
+                    key, pos = _parse_string(text, pos)
+                    key_end = pos
+                    seen = keys_stack[-1]
+                    if key in seen:
+                        _duplicate(text, key, Span(key_start, key_end), seen[key])
+                    seen[key] = key_start
+                    pos = _skip(text, pos)
+                    if text[pos : pos + 1] != ":":
+                        found = _shown(text[pos : pos + 1])
+                        raise JsonError(f"expected `:` after the key `{key}`, found {found}",
+                                        Span(pos, min(pos + 1, n)), text,
+                                        _unclosed(container) if pos >= n else ())
+                    pending[-1] = (key, key_start, key_end)
+                    pos += 1
+                    mode = _VALUE
+                    continue
+                if ch == "}":
+                    raise JsonError("a comma before `}`: JSON allows no trailing comma",
+                                    Span(comma, comma + 1), text,
+                                    ((Span(pos, pos + 1), "`}` follows the comma"),))
+                if ch == "":
+                    raise JsonError("the file ends inside an object", Span(n, n), text,
+                                    _unclosed(container))
+                if ch == "'":
+                    raise JsonError("JSON keys are strings in double quotes, not single quotes",
+                                    Span(pos, pos + 1), text)
+                w = _WORD.match(text, pos)
+                found = f"`{w.group()}`" if w else _shown(ch)
+                span = Span(pos, w.end()) if w else Span(pos, pos + 1)
+                raise JsonError(f"expected a key in double quotes, found {found}", span, text)
+            else:  # _AFTER: the fast path takes `,` and the right closer, so this is an error
+                container = stack[-1]
+                closer = _CLOSER[container.kind]
                 what = "object member" if container.kind == "object" else "array element"
                 if ch == "":
-                    raise JsonError(f"the file ends inside an {'object' if closer == '}' else 'array'}",
-                                    Span(n, n), text, _unclosed(container, text))
+                    raise JsonError(f"the file ends inside an {container.kind}", Span(n, n),
+                                    text, _unclosed(container))
                 raise JsonError(f"expected `,` or `{closer}` after an {what}, found {_shown(ch)}",
-                                Span(pos, pos + 1), text, _unclosed(container, text)
-                                if ch and ch in "}]" else ())
+                                Span(pos, pos + 1), text,
+                                _unclosed(container) if ch in "}]" else ())
 
         # A value is complete: hand it to its container, or it is the document.
-        assert done is not None
         if not stack:
-            root = done
             break
         parent = stack[-1]
         if parent.kind == "array":
-            parent.items.append(done)
+            parent.items.append(done)  # type: ignore[arg-type]
         else:
-            key, key_span = pending[-1]  # type: ignore[misc]
-            parent.members.append(Member(key, key_span, done))
-            pending[-1] = None
-        done = None
-        mode = "after"
+            key, key_start, key_end = pending[-1]  # type: ignore[misc]
+            parent.members.append(Member(key, key_start, key_end, done))  # type: ignore[arg-type]
+        mode = _AFTER
 
     pos = _skip(text, pos)
+    _no_comment(text, pos)
     if pos < n:
         raise JsonError(f"unexpected {_shown(text[pos])} after the end of the JSON value",
                         Span(pos, pos + 1), text)
-    return root
+    return done  # type: ignore[return-value]
+
+
+def _no_comment(text: str, pos: int) -> None:
+    if text.startswith(("//", "/*"), pos):
+        raise JsonError("JSON has no comments", Span(pos, pos + 2), text)
+
+
+def _duplicate(text: str, key: str, key_span: Span, first_start: int) -> None:
+    first_end = _parse_string(text, first_start)[1]
+    first = Span(first_start, first_end)
+    first_pos = SourceFile("", text).position(first_start)
+    raise JsonError(
+        f"duplicate key `{key}` (first at line {first_pos.line}, column {first_pos.column})",
+        key_span, text, ((first, "first defined here"),))

@@ -1,0 +1,790 @@
+"""Thesis JSON -> the typed IR (for `scriptc check FILE.json` and `scriptc decompile`).
+
+Three stages, each reporting in its own code:
+1. `scriptc.syntax.jsonpos` parses the text, keeping the span of every key and value
+   (J001 on text that is not JSON, at the exact position);
+2. the document is validated against `schemas/thesis-script.schema.json`, plus the one rule a
+   JSON Schema cannot state, that `goalN`, `actN` and `blkN` are numbered from 0 without gaps
+   (J002 per violation: the span is the offending value, or the key for an unknown or
+   misnumbered key; the message and `Diagnostic.path` name the JSON path such as
+   `goal0/act0/blk1/move/0/wait_t`);
+3. the IR is built with spans pointing into the JSON text. Numbers go through `read_number`
+   like the script syntax's; `toparse` strings are parsed by the rule grammar
+   (`scriptc.ir.lower.parse_condition`), with positions mapped back through JSON escapes; jump
+   paths that name no block are J003.
+
+The JSON has no labels: jumps name paths. The reader invents a label for every block some jump
+targets, named after its path (`goal0/act0/blk4` -> `g0_a0_b4`), so the IR (and the script
+text `decompile` writes from it) has a label wherever a jump needs one, and no other labels.
+A J003 jump keeps a target of the same form (`g0_a0_b9`, or, when the text is not a path at
+all, that text with every character a label cannot hold turned into `_`), which no block
+carries: the IR stays honest about the jump pointing nowhere, and a checker run on it reports
+the unknown label.
+
+The IR is built only from a document of the right shape: after J001 or J002 the script is None.
+A valid document is recognised by `_Check`, a small compiled reading of the same schema file;
+jsonschema runs (imported there, so no lint path pays for it) only on a document that is not
+valid, to list what is wrong.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import re
+from functools import cache
+
+from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit, diagnostic
+from scriptc.gcpause import gc_paused
+from scriptc.ir import nodes as ir
+from scriptc.ir.values import read_number
+from scriptc.source import SourceFile, Span
+from scriptc.syntax.jsonpos import JsonError, JsonNode, Member, parse_json, string_offsets
+
+__all__ = ["script_from_json", "invented_label"]
+
+SCHEMA_NAME = "thesis-script.schema.json"
+_SCHEMA_DEPTH = 10
+_INDEXED = {"goal": re.compile(r"goal(0|[1-9][0-9]*)"), "act": re.compile(r"act(0|[1-9][0-9]*)"),
+            "blk": re.compile(r"blk(0|[1-9][0-9]*)")}
+_PATH = re.compile(r"goal(0|[1-9][0-9]*)/act(0|[1-9][0-9]*)/blk(0|[1-9][0-9]*)")
+_ACTION_LETTERS = {65: "A", 82: "R", 68: "D", 66: "B", 67: "C"}
+_MUTEX_LETTERS = {76: "L", 77: "M", 85: "U"}
+
+
+def invented_label(address: tuple[int, int, int]) -> str:
+    """The label the reader gives the block at `address`: `g0_a0_b4`."""
+    g, a, b = address
+    return f"g{g}_a{a}_b{b}"
+
+
+def script_from_json(source: SourceFile) -> tuple[ir.Script | None, list[Diagnostic]]:
+    """Read thesis JSON. The script is None when the text is not JSON (J001) or not shaped
+    like a thesis script (J002)."""
+    with gc_paused():  # nothing built here forms a cycle (see scriptc.gcpause)
+        return _read(source)
+
+
+def _read(source: SourceFile) -> tuple[ir.Script | None, list[Diagnostic]]:
+    try:
+        root = parse_json(source.text)
+    except JsonError as error:
+        return None, [
+            diagnostic(
+                "J001",
+                error.message,
+                error.span,
+                labels=tuple(Label(span, message) for span, message in error.labels),
+            )
+        ]
+    problems = _schema_problems(root, source.text)
+    problems.extend(_numbering_problems(root))
+    if problems:
+        return None, _dedupe(problems)
+    return _Reader(source, root).script()
+
+
+def _dedupe(diagnostics: list[Diagnostic]) -> list[Diagnostic]:
+    seen = set()
+    out = []
+    for d in diagnostics:
+        key = (d.span, d.message)
+        if key not in seen:
+            seen.add(key)
+            out.append(d)
+    out.sort(key=Diagnostic.sort_key)
+    return out
+
+
+# ---------------------------------------------------------------------------------------------
+# Shape: the JSON Schema, with messages written for people
+
+
+@cache
+def _schema() -> dict:
+    from scriptc.resources import schema_path
+
+    return json.loads(schema_path(SCHEMA_NAME).read_text(encoding="utf-8"))
+
+
+@cache
+def _validator():
+    import jsonschema
+
+    return jsonschema.Draft202012Validator(_schema())
+
+
+def _join(steps) -> str:
+    return "/".join(str(s) for s in steps)
+
+
+def _where(path: str) -> str:
+    return f"`{path}`" if path else "the top-level value"
+
+
+def _node_at(root: JsonNode, steps) -> tuple[JsonNode, Member | None]:
+    """The node at a path of keys and indices, and the member that holds it (if a key)."""
+    node, member = root, None
+    for step in steps:
+        if node.kind == "object":
+            member = next((m for m in node.members if m.key == step), None)
+            if member is None:
+                break
+            node = member.value
+        elif node.kind == "array" and isinstance(step, int) and step < len(node.items):
+            node, member = node.items[step], None
+        else:
+            break
+    return node, member
+
+
+_KIND_PHRASE = {"object": "an object", "array": "an array", "string": "a string",
+                "integer": "an integer", "number": "a number", "boolean": "a boolean",
+                "null": "`null`"}
+
+
+def _shown_value(node: JsonNode, source: str) -> str:
+    if node.kind == "object":
+        return "an object"
+    if node.kind == "array":
+        return "an array"
+    text = source[node.start:node.end]
+    if len(text) > 40:
+        text = text[:37] + "..."
+    if node.kind == "string":
+        return f"the string `{text}`"
+    if node.kind == "number":
+        return f"the number `{text}`"
+    return f"`{text}`"
+
+
+_SHAPE_HELP = {
+    "": "a thesis script is an object with `activityname`, `alfarulemessages`, "
+        "`omegarulemessages` and `goal0`, `goal1`, ...",
+    "goal": "a goal holds `goalid` and its actions `act0`, `act1`, ...",
+    "act": "an action holds its blocks `blk0`, `blk1`, ...",
+    "instruction": "an instruction block holds `type`, `flagged` (always `\"flag\"`), `move`, "
+                   "`led` and `audioout` (empty arrays included)",
+    "jump": "a jump block holds `type`, `toparse`, `truejump` and `falsejump`",
+    "terminus": "a terminus block holds `type` only",
+    "sensor": "a sensor block holds `type` and `payload` (an array of strings)",
+    "block": "a block holds `type`: `instruction`, `jump`, `terminus` or `sensor`",
+    "message": "a rule message holds `rulecode`, `id`, `intopic`, `outtopic`, `action` and "
+               "`mutexcmd`",
+    "move": "a move holds `v_x`, `v_y`, `v_theta`, `wait_t` and `duration`",
+    "led": "a led command holds `r`, `g`, `b`, `turnas`, `wait_t` and `duration`",
+    "audioout": "an audio command holds `track_path`, `wait_t` and `duration`",
+}
+
+
+def _shape_of(steps, instance) -> str:
+    """Which kind of object the path `steps` names (a key of `_SHAPE_HELP`)."""
+    if not steps:
+        return ""
+    last = steps[-1]
+    if isinstance(last, int) and len(steps) >= 2:
+        parent = steps[-2]
+        if parent in ("alfarulemessages", "omegarulemessages"):
+            return "message"
+        if parent in ("move", "led", "audioout"):
+            return parent
+    if isinstance(last, str):
+        if _INDEXED["goal"].fullmatch(last) and len(steps) == 1:
+            return "goal"
+        if _INDEXED["act"].fullmatch(last) and len(steps) == 2:
+            return "act"
+        if _INDEXED["blk"].fullmatch(last) and len(steps) == 3:
+            kind = instance.get("type") if isinstance(instance, dict) else None
+            return kind if kind in ("instruction", "jump", "terminus", "sensor") else "block"
+    return ""
+
+
+_NUMBER_TEXT_KEYS = {"v_x", "v_y", "v_theta", "r", "g", "b"}
+_INTEGER_KEYS = {"wait_t", "duration", "turnas", "rulecode"}
+_NAME_KEYS = {"activityname", "goalid", "id"}
+
+
+def _type_help(steps, node: JsonNode, expected: str, source: str) -> str | None:
+    last = steps[-1] if steps else None
+    if last in _NUMBER_TEXT_KEYS and node.kind == "number":
+        return (f"the thesis JSON writes speeds and colour channels as strings: "
+                f"`\"{source[node.start:node.end]}\"`")
+    if last in _INTEGER_KEYS and node.kind == "string":
+        inner = node.value
+        if isinstance(inner, str) and re.fullmatch(r"-?[0-9]+", inner):
+            return f"write the number without quotes: `{inner}`"
+        return "write a whole number without quotes"
+    if last in _INTEGER_KEYS and node.kind == "number":
+        return "times, `turnas` and rulecodes are whole numbers"
+    if expected == "array" and last in ("move", "led", "audioout", "payload"):
+        return f"write `[]` when the block has no {last} command" if last != "payload" \
+            else "write `[]` for no payload"
+    return None
+
+
+def _schema_problems(root: JsonNode, source_text: str) -> list[Diagnostic]:
+    check = _fast_check()
+    if check is not None and check.valid(root):
+        return []
+    # The schema looks 7 levels deep (top, goal, action, block, track, command, field);
+    # deeper containers are left empty so that jsonschema, which recurses and prints values
+    # with repr, copes with any nesting.
+    instance = root.to_python(max_depth=_SCHEMA_DEPTH)
+    out: list[Diagnostic] = []
+    done_required: set[str] = set()
+    for error in _validator().iter_errors(instance):
+        steps = list(error.absolute_path)
+        path = _join(steps)
+        node, member = _node_at(root, steps)
+        validator = error.validator
+        if validator == "required":
+            if path in done_required:
+                continue
+            done_required.add(path)
+            missing = [k for k in error.validator_value if k not in error.instance]
+            span = member.key_span if member is not None else Span(node.start, node.start + 1)
+            shape = _shape_of(steps, error.instance)
+            for key in missing:
+                out.append(diagnostic(
+                    "J002",
+                    f"{_where(path) if path else 'the top-level object'} has no key `{key}`",
+                    span, help=_SHAPE_HELP.get(shape), path=_join(steps + [key]) or None))
+        elif validator == "additionalProperties":
+            schema = error.schema
+            known = set(schema.get("properties", {}))
+            patterns = [re.compile(p) for p in schema.get("patternProperties", {})]
+            shape = _shape_of(steps, error.instance)
+            for m in node.members:
+                if m.key in known or any(p.search(m.key) for p in patterns):
+                    continue
+                out.append(diagnostic(
+                    "J002",
+                    f"{_where(path) if path else 'the top-level object'} has an unknown key "
+                    f"`{m.key}`",
+                    m.key_span, help=_misnumbered_help(m.key) or _SHAPE_HELP.get(shape),
+                    path=_join(steps + [m.key])))
+        elif validator == "type":
+            expected = error.validator_value
+            expected = expected if isinstance(expected, str) else expected[0]
+            out.append(diagnostic(
+                "J002",
+                f"{_where(path)} must be {_KIND_PHRASE.get(expected, expected)}, found "
+                f"{_shown_value(node, source_text)}",
+                node.span, help=_type_help(steps, node, expected, source_text), path=path or None))
+        elif validator == "pattern":
+            out.append(_pattern_problem(steps, path, node, source_text))
+        elif validator in ("enum", "const"):
+            out.append(_enum_problem(steps, path, node, error, source_text))
+        else:  # not produced by the shipped schema; kept readable for a changed schema
+            out.append(diagnostic("J002", f"{_where(path)}: {error.message}", node.span,
+                                  path=path or None))
+    return out
+
+
+class _Unsupported(Exception):
+    """The schema uses a keyword `_Check` does not know: let jsonschema decide."""
+
+
+_IGNORED_KEYWORDS = frozenset({"$schema", "$id", "$defs", "title", "description", "$comment"})
+_KNOWN_KEYWORDS = _IGNORED_KEYWORDS | {
+    "$ref", "type", "enum", "const", "pattern", "required", "properties", "patternProperties",
+    "additionalProperties", "items", "allOf", "if", "then", "else"}
+
+
+def _json_equal(a: object, b: object) -> bool:
+    if isinstance(a, bool) or isinstance(b, bool):
+        return type(a) is type(b) and a == b
+    return a == b
+
+
+class _Check:
+    """One subschema, compiled to answer "is this node valid?" quickly.
+
+    jsonschema takes seconds on a 10,000-block file, because it evaluates every keyword
+    through several layers of generic machinery; a valid file (the common case) needs only a
+    yes. `_Check` walks the same schema file, compiled once, and answers yes or no; only on a
+    no does jsonschema run, to say what is wrong. It must never say yes where jsonschema finds
+    an error (tests/test_json_read.py checks that the two agree); a keyword it does not know
+    raises `_Unsupported` at compile time. It recurses along the schema, not the document, so
+    its depth is bounded by the schema's nesting whatever the document's."""
+
+    __slots__ = ("always", "ref", "types", "enum", "const", "has_const", "pattern", "required",
+                 "properties", "patterns", "additional", "items", "all_of", "if_", "then",
+                 "else_")
+
+    def __init__(self, schema, compile_ref) -> None:
+        self.always: bool | None = None
+        if schema is True or schema is False:
+            self.always = schema
+            return
+        unknown = set(schema) - _KNOWN_KEYWORDS
+        if unknown:
+            raise _Unsupported(sorted(unknown)[0])
+        ref = schema.get("$ref")
+        self.ref = compile_ref(ref) if ref is not None else None
+        t = schema.get("type")
+        self.types = None if t is None else ((t,) if isinstance(t, str) else tuple(t))
+        self.enum = schema.get("enum")
+        self.has_const = "const" in schema
+        self.const = schema.get("const")
+        self.pattern = re.compile(schema["pattern"]) if "pattern" in schema else None
+        self.required = tuple(schema.get("required", ()))
+        self.properties = {k: _Check(v, compile_ref)
+                           for k, v in schema.get("properties", {}).items()}
+        self.patterns = [(re.compile(k), _Check(v, compile_ref))
+                         for k, v in schema.get("patternProperties", {}).items()]
+        self.additional = _Check(schema.get("additionalProperties", True), compile_ref)
+        self.items = _Check(schema["items"], compile_ref) if "items" in schema else None
+        self.all_of = [_Check(v, compile_ref) for v in schema.get("allOf", ())]
+        self.if_ = _Check(schema["if"], compile_ref) if "if" in schema else None
+        self.then = _Check(schema["then"], compile_ref) if "then" in schema else None
+        self.else_ = _Check(schema["else"], compile_ref) if "else" in schema else None
+
+    def valid(self, node: JsonNode) -> bool:
+        if self.always is not None:
+            return self.always
+        if self.ref is not None and not self.ref.valid(node):
+            return False
+        kind = node.kind
+        if self.types is not None:
+            for t in self.types:
+                if t == kind or (t == "integer" and kind == "number" and (
+                        type(node.value) is int or node.value.is_integer())):  # type: ignore
+                    break
+                if t == "number" and kind == "number":
+                    break
+            else:
+                return False
+        if self.enum is not None and (kind in ("object", "array") or not any(
+                _json_equal(node.value, v) for v in self.enum)):
+            return False
+        if self.has_const and (kind in ("object", "array")
+                               or not _json_equal(node.value, self.const)):
+            return False
+        if self.pattern is not None and kind == "string" and \
+                self.pattern.search(node.value) is None:  # type: ignore[arg-type]
+            return False
+        if kind == "object":
+            members = node.members
+            if self.required:
+                keys = {m.key for m in members}
+                for key in self.required:
+                    if key not in keys:
+                        return False
+            properties = self.properties
+            for m in members:
+                matched = False
+                sub = properties.get(m.key)
+                if sub is not None:
+                    matched = True
+                    if not sub.valid(m.value):
+                        return False
+                for regex, sub in self.patterns:
+                    if regex.search(m.key):
+                        matched = True
+                        if not sub.valid(m.value):
+                            return False
+                if not matched and not self.additional.valid(m.value):
+                    return False
+        elif kind == "array" and self.items is not None:
+            items = self.items
+            for item in node.items:
+                if not items.valid(item):
+                    return False
+        for sub in self.all_of:
+            if not sub.valid(node):
+                return False
+        if self.if_ is not None:
+            branch = self.then if self.if_.valid(node) else self.else_
+            if branch is not None and not branch.valid(node):
+                return False
+        return True
+
+
+class _Ref:
+    """A `$ref` to `#/$defs/NAME`, compiled on first use (definitions may refer to
+    themselves)."""
+
+    __slots__ = ("name", "defs", "compiled")
+
+    def __init__(self, name: str, defs: dict[str, _Check | None]) -> None:
+        self.name = name
+        self.defs = defs
+        self.compiled: _Check | None = None
+
+    def valid(self, node: JsonNode) -> bool:
+        if self.compiled is None:
+            self.compiled = self.defs[self.name]
+        return self.compiled.valid(node)  # type: ignore[union-attr]
+
+
+@cache
+def _fast_check() -> _Check | None:
+    """The compiled shipped schema, or None when it uses a keyword `_Check` does not know."""
+    schema = _schema()
+    defs: dict[str, _Check | None] = {}
+
+    def compile_ref(ref: str) -> _Ref:
+        if not ref.startswith("#/$defs/") or ref[len("#/$defs/"):] not in schema.get("$defs", {}):
+            raise _Unsupported(ref)
+        return _Ref(ref[len("#/$defs/"):], defs)
+
+    try:
+        for name, sub in schema.get("$defs", {}).items():
+            defs[name] = _Check(sub, compile_ref)
+        return _Check(schema, compile_ref)
+    except _Unsupported:
+        return None
+
+
+def _misnumbered_help(key: str) -> str | None:
+    m = re.fullmatch(r"(goal|act|blk)0+([0-9]+)", key)
+    if m:
+        return f"numbers have no leading zeros: `{m.group(1)}{int(m.group(2))}`"
+    return None
+
+
+def _pattern_problem(steps, path: str, node: JsonNode, source: str) -> Diagnostic:
+    last = steps[-1] if steps else None
+    shown = _shown_value(node, source)
+    if last in _NAME_KEYS:
+        message = f"{_where(path)} is {shown}, which is not a name"
+        help_ = ("names start with a letter or `_` and go on with letters, digits, `_` and `-` "
+                 "(the script syntax cannot write other names)")
+    elif last in _NUMBER_TEXT_KEYS:
+        message = f"{_where(path)} must hold a decimal number, found {shown}"
+        help_ = "write the number as text, such as `\"10\"` or `\"-0.5\"`"
+    elif last == "track_path" and isinstance(node.value, str) and not re.search(r"[\n\r]", node.value):
+        end = "starts" if node.value[:1].isspace() else "ends"
+        message = f"{_where(path)} {end} with a blank: {shown}"
+        help_ = "the script syntax trims audio paths, so it cannot write this one: remove the blank"
+    else:
+        message = f"{_where(path)} holds a line break"
+        help_ = "the script syntax cannot write a line break inside a string: remove it"
+    return diagnostic("J002", message, node.span, help=help_, path=path or None)
+
+
+def _enum_problem(steps, path: str, node: JsonNode, error, source: str) -> Diagnostic:
+    last = steps[-1] if steps else None
+    shown = _shown_value(node, source)
+    if last == "action":
+        choices = ", ".join(f"{code} (`{letter}`)" for code, letter in _ACTION_LETTERS.items())
+        return diagnostic("J002", f"{_where(path)} must be the ASCII code of a rule action, "
+                          f"found {shown}", node.span, help=f"use one of {choices}",
+                          path=path)
+    if last == "mutexcmd":
+        choices = ", ".join(f"{code} (`{letter}`)" for code, letter in _MUTEX_LETTERS.items())
+        return diagnostic("J002", f"{_where(path)} must be the ASCII code of a mutex command, "
+                          f"found {shown}", node.span, help=f"use one of {choices}",
+                          path=path)
+    if last == "type":
+        return diagnostic("J002", f"{_where(path)} must be a block type, found {shown}",
+                          node.span,
+                          help="use `\"instruction\"`, `\"jump\"`, `\"terminus\"` or `\"sensor\"`",
+                          path=path)
+    if last == "flagged":
+        return diagnostic("J002", f"{_where(path)} must be `\"flag\"`, found {shown}", node.span,
+                          help="the thesis writes `\"flagged\":\"flag\"` in every instruction "
+                          "block", path=path)
+    allowed = error.validator_value if error.validator == "enum" else [error.validator_value]
+    listed = ", ".join(f"`{json.dumps(v)}`" for v in allowed)
+    return diagnostic("J002", f"{_where(path)} must be one of {listed}, found {shown}",
+                      node.span, path=path or None)
+
+
+def _numbering_problems(root: JsonNode) -> list[Diagnostic]:
+    """`goalN`, `actN`, `blkN` are numbered 0, 1, 2, ... without gaps (JSON.md: "numbering
+    starts at 0 inside each parent"; the robot walks them in order)."""
+    out: list[Diagnostic] = []
+    if root.kind != "object":
+        return out
+    work: list[tuple[JsonNode, str, str]] = [(root, "goal", "")]
+    while work:
+        node, prefix, path = work.pop()
+        indexed = []
+        for m in node.members:
+            if _INDEXED[prefix].fullmatch(m.key):
+                indexed.append((int(m.key[len(prefix):]), m))
+        indexed.sort(key=lambda pair: pair[0])
+        for expected, (index, m) in enumerate(indexed):
+            if index != expected:
+                where = f"`{path}`" if path else "the top-level object"
+                out.append(diagnostic(
+                    "J002",
+                    f"{where} has `{m.key}` but no `{prefix}{expected}`: keys are numbered from 0 "
+                    "without gaps",
+                    m.key_span,
+                    help=f"rename `{m.key}` to `{prefix}{expected}` (and the jump paths that name "
+                    "it)",
+                    path=f"{path}/{m.key}" if path else m.key))
+                break
+        child = {"goal": "act", "act": "blk"}.get(prefix)
+        if child:
+            for _, m in indexed:
+                if m.value.kind == "object":
+                    work.append((m.value, child, f"{path}/{m.key}" if path else m.key))
+    return out
+
+
+# ---------------------------------------------------------------------------------------------
+# The IR
+
+
+def _parse_condition(text: str, base: int):
+    from scriptc.ir.lower import parse_condition
+
+    return parse_condition(text, base)
+
+
+class _ConditionCache:
+    """Files repeat conditions (every jump of the thesis's files is `! {TRUE}`): each distinct
+    text is parsed once, at offset 0, and moved to where it stands."""
+
+    def __init__(self) -> None:
+        self._parsed: dict[str, tuple] = {}
+
+    def parse(self, text: str, base: int):
+        parsed = self._parsed.get(text)
+        if parsed is None:
+            parsed = self._parsed[text] = _parse_condition(text, 0)
+        if base == 0:
+            return parsed
+        condition, problems = parsed
+        shift = lambda span: span.shift(base)  # noqa: E731
+        return (_map_spans(condition, shift) if condition is not None else None,
+                [_map_spans(d, shift) for d in problems])
+
+
+_FIELD_NAMES: dict[type, tuple[str, ...]] = {}
+
+
+def _map_spans(obj, remap):
+    """A copy of IR node or diagnostic `obj` with every Span passed through `remap`."""
+    if isinstance(obj, Span):
+        return remap(obj)
+    if isinstance(obj, tuple):
+        return tuple(_map_spans(x, remap) for x in obj)
+    cls = type(obj)
+    names = _FIELD_NAMES.get(cls)
+    if names is None:
+        if not dataclasses.is_dataclass(cls):
+            return obj
+        names = _FIELD_NAMES[cls] = tuple(f.name for f in dataclasses.fields(cls))
+    return cls(**{name: _map_spans(getattr(obj, name), remap) for name in names})
+
+
+def _json_escape_edit(edit: TextEdit) -> TextEdit:
+    # A fix written for the condition's text lands inside a JSON string.
+    return TextEdit(edit.span, json.dumps(edit.new_text, ensure_ascii=False)[1:-1])
+
+
+class _Reader:
+    def __init__(self, source: SourceFile, root: JsonNode) -> None:
+        self.source = source
+        self.root = root
+        self.diagnostics: list[Diagnostic] = []
+        self.addresses: dict[str, tuple[int, int, int]] = {}
+        self.targets: set[tuple[int, int, int]] = set()
+        self.conditions = _ConditionCache()
+
+    # -- leaves -----------------------------------------------------------------------------
+
+    def name(self, node: JsonNode) -> ir.Name:
+        return ir.Name(node.value, node.content_span)  # type: ignore[arg-type]
+
+    def text(self, node: JsonNode) -> ir.Text:
+        return ir.Text(node.value, node.span)  # type: ignore[arg-type]
+
+    def number_text(self, node: JsonNode, what: str) -> ir.Number:
+        number, problem = read_number(node.value, node.content_span, what)  # type: ignore[arg-type]
+        if problem is not None:
+            self.diagnostics.append(problem)
+        return number
+
+    def integer(self, node: JsonNode, what: str) -> ir.Number:
+        number, problem = read_number(node.raw, node.span, what)
+        if problem is not None:
+            self.diagnostics.append(problem)
+        return number
+
+    # -- structure --------------------------------------------------------------------------
+
+    @staticmethod
+    def indexed(node: JsonNode, prefix: str) -> list[Member]:
+        pattern = _INDEXED[prefix]
+        found = [(int(m.key[len(prefix):]), m) for m in node.members if pattern.fullmatch(m.key)]
+        found.sort(key=lambda pair: pair[0])
+        return [m for _, m in found]
+
+    def script(self) -> tuple[ir.Script, list[Diagnostic]]:
+        root = self.root
+        goals_json = self.indexed(root, "goal")
+        # First pass: every block's path, and which blocks jumps target.
+        for g, gm in enumerate(goals_json):
+            for a, am in enumerate(self.indexed(gm.value, "act")):
+                for b, _bm in enumerate(self.indexed(am.value, "blk")):
+                    self.addresses[f"goal{g}/act{a}/blk{b}"] = (g, a, b)
+        for g, gm in enumerate(goals_json):
+            for a, am in enumerate(self.indexed(gm.value, "act")):
+                for bm in self.indexed(am.value, "blk"):
+                    if bm.value.get("type").value == "jump":  # type: ignore[union-attr]
+                        for key in ("truejump", "falsejump"):
+                            address = self.addresses.get(bm.value.get(key).value)  # type: ignore
+                            if address is not None:
+                                self.targets.add(address)
+
+        alfa = tuple(self.rule_message(n, "alfa") for n in root.get("alfarulemessages").items)
+        omega = tuple(self.rule_message(n, "omega") for n in root.get("omegarulemessages").items)
+        goals = []
+        for g, gm in enumerate(goals_json):
+            actions = []
+            for a, am in enumerate(self.indexed(gm.value, "act")):
+                blocks = tuple(self.block((g, a, b), bm)
+                               for b, bm in enumerate(self.indexed(am.value, "blk")))
+                actions.append(ir.Action(blocks, am.key_span))
+            goals.append(ir.Goal(self.name(gm.value.get("goalid")), tuple(actions), gm.key_span))
+        script = ir.Script(self.name(root.get("activityname")), alfa, omega, tuple(goals),
+                           root.span)
+        self.diagnostics.sort(key=Diagnostic.sort_key)
+        return script, self.diagnostics
+
+    def rule_message(self, node: JsonNode, kind: str) -> ir.RuleMessage:
+        action = node.get("action")
+        mutex = node.get("mutexcmd")
+        return ir.RuleMessage(
+            kind=kind,
+            rulecode=self.integer(node.get("rulecode"), "the rulecode"),
+            id=self.name(node.get("id")),
+            intopic=self.text(node.get("intopic")),
+            outtopic=self.text(node.get("outtopic")),
+            action=ir.Name(_ACTION_LETTERS[action.value], action.span),
+            mutex=ir.Name(_MUTEX_LETTERS[mutex.value], mutex.span),
+            span=node.span,
+        )
+
+    def block(self, address: tuple[int, int, int], member: Member) -> ir.Block:
+        node = member.value
+        span = Span(member.key_start, node.end)
+        label = (ir.Name(invented_label(address), member.key_span)
+                 if address in self.targets else None)
+        kind = node.get("type").value
+        if kind == "instruction":
+            return ir.InstructionBlock(
+                label,
+                tuple(self.move(n) for n in node.get("move").items),
+                tuple(self.led(n) for n in node.get("led").items),
+                tuple(self.audio(n) for n in node.get("audioout").items),
+                span,
+            )
+        if kind == "jump":
+            toparse = node.get("toparse")
+            return ir.JumpBlock(
+                label=label,
+                condition=self.condition(toparse),
+                true_target=self.target(node.get("truejump"), address, "truejump"),
+                false_target=self.target(node.get("falsejump"), address, "falsejump"),
+                span=span,
+                condition_text=toparse.value,
+            )
+        if kind == "terminus":
+            return ir.TerminusBlock(label, span)
+        return ir.SensorBlock(label, tuple(self.text(n) for n in node.get("payload").items), span)
+
+    # -- commands ---------------------------------------------------------------------------
+
+    def move(self, node: JsonNode) -> ir.MoveCommand:
+        return ir.MoveCommand(
+            self.number_text(node.get("v_x"), "`v_x`"),
+            self.number_text(node.get("v_y"), "`v_y`"),
+            self.number_text(node.get("v_theta"), "`v_theta`"),
+            self.integer(node.get("wait_t"), "`wait_t`"),
+            self.integer(node.get("duration"), "`duration`"),
+            node.span,
+        )
+
+    def led(self, node: JsonNode) -> ir.LedCommand:
+        return ir.LedCommand(
+            self.number_text(node.get("r"), "`r`"),
+            self.number_text(node.get("g"), "`g`"),
+            self.number_text(node.get("b"), "`b`"),
+            self.integer(node.get("turnas"), "`turnas`"),
+            self.integer(node.get("wait_t"), "`wait_t`"),
+            self.integer(node.get("duration"), "`duration`"),
+            node.span,
+        )
+
+    def audio(self, node: JsonNode) -> ir.AudioCommand:
+        path = node.get("track_path")
+        return ir.AudioCommand(
+            ir.Text(path.value, path.content_span),
+            self.integer(node.get("wait_t"), "`wait_t`"),
+            self.integer(node.get("duration"), "`duration`"),
+            node.span,
+        )
+
+    # -- jumps ------------------------------------------------------------------------------
+
+    def condition(self, node: JsonNode) -> ir.Condition:
+        text: str = node.value  # type: ignore[assignment]
+        base = node.start + 1
+        if self.source.text[base:node.end - 1] == text:
+            condition, problems = self.conditions.parse(text, base)
+        else:
+            # Escapes make the value shorter than its text: parse the value, then map each
+            # position back to the character of the JSON text it came from.
+            offsets = string_offsets(self.source.text, node)
+            last = len(offsets) - 1
+
+            def remap(span: Span) -> Span:
+                return Span(offsets[min(span.start, last)], offsets[min(span.end, last)])
+
+            condition, problems = self.conditions.parse(text, 0)
+            condition = _map_spans(condition, remap) if condition is not None else None
+            mapped = []
+            for d in problems:
+                d = _map_spans(d, remap)
+                if d.fix is not None:
+                    d = dataclasses.replace(d, fix=Fix(d.fix.message, tuple(
+                        _json_escape_edit(e) for e in d.fix.edits), d.fix.safe))
+                mapped.append(d)
+            problems = mapped
+        self.diagnostics.extend(problems)
+        if condition is None:
+            # Reported above; the block keeps an empty condition so the rest can be checked.
+            condition = ir.Condition((), (), node.content_span)
+        return condition
+
+    def target(self, node: JsonNode, address: tuple[int, int, int], key: str) -> ir.Name | None:
+        path: str = node.value  # type: ignore[assignment]
+        if path == "":
+            return None
+        span = node.content_span
+        found = self.addresses.get(path)
+        if found is not None:
+            return ir.Name(invented_label(found), span)
+        where = f"goal{address[0]}/act{address[1]}/blk{address[2]}/{key}"
+        m = _PATH.fullmatch(path)
+        if m:
+            message = f"`{where}` is `{path}`, which names no block of the script"
+            name = invented_label((int(m.group(1)), int(m.group(2)), int(m.group(3))))
+            help_ = self._path_help(m)
+        else:
+            message = f"`{where}` is `{path}`, which is not a block path `goalG/actA/blkB`"
+            name = re.sub(r"[^A-Za-z0-9_-]", "_", path)
+            if not re.match(r"[A-Za-z_]", name):
+                name = "_" + name
+            help_ = ("write the path of the target block, such as `goal0/act0/blk4`, or `\"\"` "
+                     "to go on with the next block")
+        self.diagnostics.append(diagnostic("J003", message, span, help=help_, path=where))
+        return ir.Name(name, span)
+
+    def _path_help(self, m: re.Match) -> str:
+        g, a = int(m.group(1)), int(m.group(2))
+        blocks = sorted(b for (gg, aa, b) in self.addresses.values() if gg == g and aa == a)
+        if blocks:
+            return (f"`goal{g}/act{a}` has blocks `blk0` to `blk{blocks[-1]}`")
+        acts = sorted({aa for (gg, aa, _b) in self.addresses.values() if gg == g})
+        if acts:
+            return f"`goal{g}` has actions `act0` to `act{acts[-1]}`"
+        goals = sorted({gg for (gg, _a, _b) in self.addresses.values()})
+        return f"the script has goals `goal0` to `goal{goals[-1]}`"
