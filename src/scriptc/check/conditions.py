@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import bisect
 
-from scriptc.check.context import Context, closest, code_list
+from scriptc.check.context import Context, closest, code_list, suggestion
 from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit, diagnostic
 from scriptc.ir.builtins import CLASSES, SCOPES
 from scriptc.ir.nodes import (
@@ -174,14 +174,11 @@ class _ConditionChecker:
         if cls in CLASSES:
             return cls
         best = closest(cls, CLASSES)
-        fix = None
-        if best is not None:
-            help = f"a class with a similar name exists: `{best}`"
-            if self.ctx.is_script_syntax:
-                new = name.text[: len(name.text) - len(cls)] + best
-                fix = Fix(f"write `{best}`", (TextEdit(name.span, new),), safe=False)
-        else:
-            help = f"the classes of the map are {code_list(CLASSES)}"
+        help, fix = suggestion(
+            self.ctx, best, "a class", name.span,
+            None if best is None else name.text[: len(name.text) - len(cls)] + best,
+            "write", f"the classes of the map are {code_list(CLASSES)}",
+        )
         self.out.append(
             diagnostic("R001", f"unknown class `{cls}`", name.span, help=help, fix=fix)
         )
@@ -294,14 +291,11 @@ class _ConditionChecker:
         if via is not None and via[1] is not None:
             labels.append(Label(via[1].class_name.span, f"`{via[0]}` is bound to {_a(cls)} `{cls}` here"))
         best = closest(field, fields)
-        fix = None
-        if best is not None:
-            help = f"a field with a similar name exists: `{best}`"
-            if self.ctx.is_script_syntax:
-                new = name.text[: len(name.text) - len(field)] + best
-                fix = Fix(f"write `{best}`", (TextEdit(name.span, new),), safe=False)
-        else:
-            help = f"the fields of `{cls}` are {code_list(fields)}"
+        help, fix = suggestion(
+            self.ctx, best, "a field", name.span,
+            None if best is None else name.text[: len(name.text) - len(field)] + best,
+            "write", f"the fields of `{cls}` are {code_list(fields)}",
+        )
         owners = [c for c, fs in CLASSES.items() if any(f.name == field for f in fs)]
         notes = (f"`{field}` is a field of {code_list(owners)}",) if owners else ()
         self.out.append(
@@ -321,14 +315,10 @@ class _ConditionChecker:
         kind = call.kind
         if function is None:
             same_kind = registry.names(kind)
-            best = closest(name, same_kind)
-            fix = None
-            if best is not None:
-                help = f"{_article(kind)} {kind} function with a similar name exists: `{best}`"
-                if self.ctx.is_script_syntax:
-                    fix = Fix(f"call `{best}`", (TextEdit(call.name.span, best),), safe=False)
-            else:
-                help = f"the {kind} functions are {code_list(same_kind)}"
+            help, fix = suggestion(
+                self.ctx, closest(name, same_kind), f"{_article(kind)} {kind} function",
+                call.name.span, None, "call", f"the {kind} functions are {code_list(same_kind)}",
+            )
             self.out.append(
                 diagnostic("R003", f"unknown {kind} function `{name}`", call.name.span,
                            notes=("functions come from the function registry: the standard "

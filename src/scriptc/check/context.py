@@ -11,6 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from functools import cached_property
 
+from scriptc.diagnostics.model import Fix, TextEdit
 from scriptc.ir.builtins import STANDARD, FunctionRegistry
 from scriptc.ir.nodes import Block, JumpBlock, Name, Script
 from scriptc.source import SourceFile, Span
@@ -108,6 +109,21 @@ class Context:
 
     def text_of(self, span: Span) -> str:
         return self.source.text[span.start : span.end]
+
+
+def suggestion(ctx: Context, best: str | None, what: str, span: Span, replacement: str | None,
+               verb: str, otherwise: str) -> tuple[str, Fix | None]:
+    """The help line and (for script syntax) the fix of a did-you-mean: `best` is the closest
+    candidate or None, `what` names it ("a label"), `replacement` is the text that replaces
+    `span` (None: `best` itself), `verb` words the fix ("jump to"), `otherwise` is the help
+    when nothing is close."""
+    if best is None:
+        return otherwise, None
+    help = f"{what} with a similar name exists: `{best}`"
+    if not ctx.is_script_syntax:
+        return help, None
+    new = best if replacement is None else replacement
+    return help, Fix(f"{verb} `{best}`", (TextEdit(span, new),), safe=False)
 
 
 def closest(word: str, candidates, *, cutoff: float = 0.6) -> str | None:

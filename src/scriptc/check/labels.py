@@ -4,8 +4,8 @@ goal ids are unique (L002), and every jump target names a label of the same scri
 
 from __future__ import annotations
 
-from scriptc.check.context import Context, closest
-from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit, diagnostic
+from scriptc.check.context import Context, closest, suggestion
+from scriptc.diagnostics.model import Diagnostic, Label, diagnostic
 from scriptc.ir.nodes import Name
 
 # Suggestions cost a difflib scan over every label; past this many distinct unknown targets
@@ -56,18 +56,11 @@ def check_labels(ctx: Context) -> list[Diagnostic]:
                 continue
             if target.text not in suggestions and len(suggestions) < _MAX_SUGGESTIONS:
                 suggestions[target.text] = closest(target.text, table.index)
-            best = suggestions.get(target.text)
-            if best is not None:
-                help = f"a label with a similar name exists: `{best}`"
-                fix = (
-                    Fix(f"jump to `{best}`", (TextEdit(target.span, best),), safe=False)
-                    if ctx.is_script_syntax
-                    else None
-                )
-            else:
-                help = (f"add `{target.text}` as the label of a block (`[b#{target.text}#...`), "
-                        "or leave the target empty to go on with the next block")
-                fix = None
+            help, fix = suggestion(
+                ctx, suggestions.get(target.text), "a label", target.span, None, "jump to",
+                f"add `{target.text}` as the label of a block (`[b#{target.text}#...`), "
+                "or leave the target empty to go on with the next block",
+            )
             out.append(
                 diagnostic(
                     "L003",
