@@ -82,6 +82,11 @@ class Context:
         text = self.source.text
         start, end = block.span.start, block.span.end
         if not text.startswith("[", start):
+            # Thesis JSON: the block's span starts at its key (`"blk3"`), which names it.
+            if text.startswith('"', start):
+                close = text.find('"', start + 1, end)
+                if close != -1:
+                    return Span(start, close + 1)
             return block.span
         # Search after the label, which may itself contain `blk_`.
         after = block.label.span.end if block.label is not None else start
