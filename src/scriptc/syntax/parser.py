@@ -238,6 +238,8 @@ def _expected(parser, expected, text, base, at, found, shown, code="P001", found
     words = _words(parser, expected)
     help_ = None
     fix = None
+    if "BANG" in bare and found == ")":
+        help_ = "a condition is `ASSIGNMENTS ! EVALUATIONS`; the smallest is `! {TRUE}`"
     if found:
         keywords = [w.strip("`") for w in words if w.startswith("`")]
         close = difflib.get_close_matches(found, keywords, n=1, cutoff=0.6)
