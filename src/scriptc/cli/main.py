@@ -23,6 +23,7 @@ VERBS: dict[str, tuple[str, str]] = {
     "check": ("scriptc.cli.check", "Check thesis JSON files."),
     "decompile": ("scriptc.cli.decompile", "Turn thesis JSON back into script syntax."),
     "explain": ("scriptc.cli.explain", "Explain a diagnostic code."),
+    "fmt": ("scriptc.cli.fmt", "Format scripts in the canonical layout, comments kept."),
 }
 
 INTERNAL_ERROR_HINT = (

@@ -1,0 +1,676 @@
+"""The formatter: one canonical layout for script syntax, comments kept where they were.
+
+`format_text(text)` returns the whole text in the canonical layout, or refuses (text None) with
+the syntax errors that made it refuse: a file that does not parse is never rewritten, so no
+byte of it can be lost. `format_range(text, start, end)` returns text edits that reformat only
+the items overlapping a range (for an editor's "format selection"); it works in a file with
+syntax errors elsewhere, and leaves alone every part of the file that holds one.
+
+The layout is the canonical printer's (`scriptc.emit.script`): one item per line, `[action]`
+indented two spaces, blocks four, the spacing of `[alfa:0, kick_starter, "", "", C, U]`, the
+`toparse` spacing of conditions (`scriptc.emit.condition`) and `"0, 0, 1, 1, 0, 100"` inside
+command strings. Unlike the printer, the formatter works on the text's tokens, not on the IR,
+so it keeps what the IR forgets: comments, blank lines (at most one in a row), the file's line
+endings and the exact text of every number, name and string. An item wider than
+`LINE_WIDTH` columns is wrapped (instruction blocks one track per line, then one command per
+line; jump blocks `TRJMP` on a line of its own, then one condition part per line).
+docs/editors.md ("Formatting") lists every decision.
+
+How it stays safe: the layout is a function of the tokens alone (so formatting twice changes
+nothing); each item it changes is parsed again and compared with the original parse, and the
+whole output is scanned again and compared item for item and comment for comment; a mismatch
+is a bug in the formatter and raises `FormatterError` rather than returning changed meaning.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+from scriptc.diagnostics.model import Diagnostic
+from scriptc.source import Span
+from scriptc.syntax.parser import ParsedItem, parse_items
+from scriptc.syntax.scan import scan
+
+# The parse trees come from `scriptc.syntax` (lark's Tree and Token); lark stays in that
+# package's room, so they are read here by their attributes: a tree has `data` and `children`,
+# a token is a `str` with a `type`.
+Tree = Any  # noqa: N816 - a name for documentation only
+
+__all__ = ["FormatResult", "FormatterError", "LINE_WIDTH", "format_text", "format_range"]
+
+# Items wider than this (in code points, indentation included) are wrapped.
+LINE_WIDTH = 100
+
+ACTION_INDENT = "  "
+BLOCK_INDENT = "    "
+
+_BREAK = re.compile(r"\r\n|\r|\n")
+
+# The tokens of an item that parsed. The patterns are the grammar's own (grammar/*.lark) and
+# the scanner's (strings and comments); `#` is a token of its own, so `#Human` is `#` `Human`
+# (the formatter never puts a space after `#`, so the text is the same).
+_TOKEN = re.compile(
+    r"""
+     (?P<ws>\s+)
+    |(?P<str>"(?:\\[^\n\r]|[^"\\\n\r])*")
+    |(?P<comment>%[^%]*%)
+    |(?P<op>OP[=<>])
+    |(?P<access>>[&$])
+    |(?P<alias>\?[A-Za-z_][A-Za-z0-9_-]*)
+    |(?P<var>@[A-Za-z_][A-Za-z0-9_-]*)
+    |(?P<att>\$[A-Za-z_][A-Za-z0-9_-]*)
+    |(?P<num>[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?)
+    |(?P<name>[A-Za-z_][A-Za-z0-9_-]*)
+    |(?P<punct>[\[\](){},:#!])
+    """,
+    re.VERBOSE,
+)
+_OPENERS = frozenset("([{")
+_CLOSERS = frozenset(")]}")
+
+
+class FormatterError(RuntimeError):
+    """The formatter produced text that does not parse to the same items and comments: a bug
+    in scriptc (the input is never rewritten when this is raised)."""
+
+
+@dataclass(frozen=True, slots=True)
+class FormatResult:
+    """What `format_text` returns: the formatted text, or None when the formatter refused
+    because of the syntax errors in `diagnostics`."""
+
+    text: str | None
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+
+    @property
+    def refused(self) -> bool:
+        return self.text is None
+
+
+# ---------------------------------------------------------------------------------------------
+# Public API
+
+
+def format_text(text: str) -> FormatResult:
+    """The canonical layout of a whole script, or a refusal with the syntax errors (text None).
+
+    Never raises on any input, except `FormatterError` for a bug of the formatter itself."""
+    parsed = parse_items(text)
+    if parsed.diagnostics:
+        return FormatResult(None, list(parsed.diagnostics))
+    layout = _Layout(text, parsed.items, parsed.comments, [])
+    out = "".join(region.new for region in layout.regions)
+    _verify_whole(text, out, parsed.items, parsed.comments)
+    return FormatResult(out, [])
+
+
+def format_range(text: str, start: int, end: int) -> list[tuple[int, int, str]]:
+    """Edits `(start, end, new_text)` (offsets into `text`, end exclusive, in order, never
+    overlapping) that reformat the items overlapping `[start, end)`: an item is taken when
+    its text or a comment before it overlaps the range (an empty range takes the item it
+    touches). The line breaks and comments before a taken item are laid out with it.
+
+    Items that do not parse, and the text between items that holds a syntax error, are never
+    edited; the other items are, so a selection can be formatted while another part of the
+    file is still broken. Applying every edit of the range `[0, len(text))` to a file without
+    syntax errors gives `format_text(text).text`."""
+    n = len(text)
+    start = max(0, min(start, n))
+    end = max(start, min(end, n))
+    parsed = parse_items(text)
+    layout = _Layout(text, parsed.items, parsed.comments, parsed.diagnostics)
+    edits: list[tuple[int, int, str]] = []
+    for region in layout.regions:
+        if not region.clean or not region.touches(start, end):
+            continue
+        old = text[region.start : region.end]
+        if old == region.new:
+            continue
+        edits.append(_minimal_edit(region.start, old, region.new))
+    return edits
+
+
+# ---------------------------------------------------------------------------------------------
+# Regions: the file cut into consecutive pieces, one per item (the line breaks and comments
+# before it, the item, the comments after it on its line) and one for the end of the file.
+
+
+@dataclass(slots=True)
+class _Region:
+    start: int
+    end: int
+    new: str
+    clean: bool
+    # Spans that select this region in `format_range`: the item and the comments before it.
+    spans: list[Span]
+
+    def touches(self, start: int, end: int) -> bool:
+        for span in self.spans:
+            if start == end:
+                if span.start <= start <= span.end:
+                    return True
+            elif span.start < end and start < span.end:
+                return True
+        return False
+
+
+def _breaks(text: str) -> int:
+    return len(_BREAK.findall(text))
+
+
+def _blank_free(text: str, start: int, end: int, comments: Sequence[Span]) -> bool:
+    """True when text[start:end] holds only whitespace besides the given comments."""
+    pos = start
+    for c in comments:
+        if text[pos : c.start].strip():
+            return False
+        pos = c.end
+    return not text[pos:end].strip()
+
+
+class _Layout:
+    """The regions of a text, each with its formatted text (for a clean region)."""
+
+    def __init__(self, text: str, parsed_items: list[ParsedItem], comments: list[Span],
+                 diagnostics: list[Diagnostic]) -> None:
+        self.text = text
+        # Every bracketed item the scanner found, with its parse (None: it did not parse, and
+        # it is kept as it is, in a region of its own, so the items around it still format).
+        by_start = {p.span.start: p for p in parsed_items}
+        if diagnostics:
+            items: list[tuple[Span, ParsedItem | None]] = [
+                (raw.span, by_start.get(raw.span.start)) for raw in scan(text).items
+            ]
+        else:
+            items = [(p.span, p) for p in parsed_items]
+        self.nl = _line_ending(text, comments)
+        self.regions: list[_Region] = []
+        problems = sorted((d.span for d in diagnostics), key=lambda s: s.start)
+
+        # The comments between items: before[k] are those before item k (after item k - 1);
+        # the comments inside an item are among its tokens (`_render_item`).
+        before: list[list[Span]] = [[] for _ in range(len(items) + 1)]
+        k = 0
+        for c in comments:
+            while k < len(items) and c.start >= items[k][0].end:
+                k += 1
+            if k == len(items) or c.start < items[k][0].start:
+                before[k].append(c)
+
+        boundary = 0
+        previous_indent = ""
+        first = True
+        for k, (span, item) in enumerate(items):
+            leading = before[k]
+            following = before[k + 1]
+            # Comments on the item's own line after it stay there.
+            trailing: list[Span] = []
+            pos = span.end
+            for c in following:
+                gap = text[pos : c.start]
+                if gap.strip() or _breaks(gap):
+                    break
+                trailing.append(c)
+                pos = c.end
+            region_end = trailing[-1].end if trailing else span.end
+            clean = (
+                item is not None
+                and text[span.end - 1 : span.end] == "]"
+                and _blank_free(text, boundary, span.start, leading)
+                and not _overlaps(problems, boundary, region_end)
+            )
+            if not clean:
+                # Kept as it is. The region ends at the item's last character: the blanks
+                # and comments after it belong to the next region, which counts the line
+                # breaks in them.
+                end = span.start + len(text[span.start : span.end].rstrip())
+                self.regions.append(_Region(boundary, end, "", False, []))
+                boundary = end
+                first = False
+                continue
+            before[k + 1] = following[len(trailing) :]
+            indent = _indent(item.tree)
+            new = self._region_text(first, boundary, leading, span, item, trailing, indent)
+            self.regions.append(_Region(boundary, region_end, new, True, [span, *leading]))
+            boundary = region_end
+            previous_indent = indent
+            first = False
+
+        # The end of the file: comments after the last item (at the last item's level: they
+        # belong to the innermost section still open) and the final line break.
+        leading = before[len(items)]
+        end = len(text)
+        clean = _blank_free(text, boundary, end, leading) and not _overlaps(problems, boundary, end)
+        new = ""
+        if clean:
+            new = self._end_text(not items, boundary, leading, previous_indent)
+        spans = list(leading)
+        if items:
+            spans.append(items[-1][0])
+        self.regions.append(_Region(boundary, end, new, clean, spans))
+
+    # -- the text of a region ------------------------------------------------------------
+
+    def _comment_lines(self, first: bool, pos: int, comments: list[Span], indent: str
+                       ) -> tuple[str, int, bool]:
+        """The comments before an item, one line per line they were on (several comments on
+        one line stay together), at most one blank line between lines. Returns the text,
+        where the source continues and whether the last line of comments was on the item's
+        line (returned open: the item follows after a space)."""
+        text = self.text
+        lines: list[tuple[int, list[str]]] = []
+        for c in comments:
+            breaks = _breaks(text[pos : c.start])
+            if lines and breaks == 0:
+                lines[-1][1].append(text[c.start : c.end])
+            else:
+                lines.append((breaks, [text[c.start : c.end]]))
+            pos = c.end
+        out = []
+        for i, (breaks, group) in enumerate(lines):
+            if not (first and i == 0):
+                out.append(self.nl * min(max(breaks, 1), 2))
+            out.append(indent + " ".join(group))
+        return "".join(out), pos, bool(lines)
+
+    def _region_text(self, first: bool, boundary: int, leading: list[Span], span: Span,
+                     item: ParsedItem, trailing: list[Span], indent: str) -> str:
+        text = self.text
+        head, pos, has_comments = self._comment_lines(first, boundary, leading, indent)
+        breaks = _breaks(text[pos : span.start])
+        if has_comments and breaks == 0:
+            head += " "  # a comment before the item on the item's own line stays there
+        else:
+            if not (first and not has_comments):
+                head += self.nl * min(max(breaks, 1), 2)
+            head += indent
+        column = len(head) - max(head.rfind("\n"), head.rfind("\r")) - 1
+        body = _render_item(text, item, column, self.nl)
+        tail = "".join(" " + text[c.start : c.end] for c in trailing)
+        return head + body + tail
+
+    def _end_text(self, empty: bool, boundary: int, leading: list[Span], indent: str) -> str:
+        if empty and not leading:
+            return ""  # a file with nothing in it stays empty
+        body, _pos, _ = self._comment_lines(empty, boundary, leading, indent)
+        return body + self.nl
+
+
+def _line_ending(text: str, comments: list[Span]) -> str:
+    """The file's line ending: its first line break outside comments (those inside a
+    comment are the comment's own text), `\\n` when it has none."""
+    pos = 0
+    for c in [*comments, Span(len(text), len(text))]:
+        m = _BREAK.search(text, pos, c.start)
+        if m:
+            return m.group()
+        pos = max(pos, c.end)
+    return "\n"
+
+
+def _overlaps(problems: list[Span], start: int, end: int) -> bool:
+    """Whether a diagnostic's span meets [start, end] (ends included: a zero-width
+    diagnostic at an item's edge belongs to it)."""
+    return any(p.start <= end and p.end >= start for p in problems)
+
+
+def _kind(tree: Tree) -> str:
+    return str(tree.data).rsplit("__", 1)[-1]
+
+
+def _indent(tree: Tree) -> str:
+    kind = _kind(tree)
+    if kind == "block":
+        return BLOCK_INDENT
+    if kind == "name_item" and str(tree.children[0]) == "action":
+        return ACTION_INDENT
+    return ""
+
+
+def _minimal_edit(start: int, old: str, new: str) -> tuple[int, int, str]:
+    """One edit replacing `old` (at `start`) by `new`, without their common ends."""
+    prefix = 0
+    limit = min(len(old), len(new))
+    while prefix < limit and old[prefix] == new[prefix]:
+        prefix += 1
+    suffix = 0
+    while suffix < limit - prefix and old[-1 - suffix] == new[-1 - suffix]:
+        suffix += 1
+    return (start + prefix, start + len(old) - suffix, new[prefix : len(new) - suffix])
+
+
+# ---------------------------------------------------------------------------------------------
+# One item: its tokens, the spaces between them, and where a long item may break.
+
+
+@dataclass(slots=True)
+class _Tok:
+    kind: str
+    text: str
+
+    def is_(self, punct: str) -> bool:
+        return self.kind == "punct" and self.text == punct
+
+
+def _tokens(item_text: str) -> list[_Tok]:
+    toks = []
+    pos = 0
+    n = len(item_text)
+    while pos < n:
+        m = _TOKEN.match(item_text, pos)
+        if m is None:
+            raise FormatterError(f"cannot read the item {item_text[:60]!r} at {pos}")
+        kind = m.lastgroup
+        if kind != "ws":
+            value = m.group()
+            if kind == "alias" and value == "?THIS":
+                kind = "this"
+            toks.append(_Tok(kind, value))
+        pos = m.end()
+    return toks
+
+
+def _space(prev: _Tok, tok: _Tok, before_prev: _Tok | None, prev_position: int) -> str:
+    """The space between two tokens of an item (neither a comment): the canonical printer's
+    spacing (`[alfa:0, x, ...]`, `[b#l#blk_inst: MV("...") LD() AO()]`, the `toparse` text of
+    conditions)."""
+    if tok.kind == "punct" and (tok.text in _CLOSERS or tok.text in ",:"):
+        return ""
+    if prev.kind == "punct":
+        if prev.text in _OPENERS:
+            return ""
+        if prev.text == ",":
+            return " "
+        if prev.text == ":":
+            # `[alfa:16`, `[goal:g]` (the third token of the item) but `blk_inst: MV`, `E: gt`
+            return "" if prev_position == 2 else " "
+        if prev.text == "#":
+            return ""
+    if tok.is_("#"):
+        # `{CLASS #Human`, but `[b#label#blk_inst`
+        if prev.kind == "name" and prev.text == "CLASS" and before_prev is not None \
+                and before_prev.is_("{"):
+            return " "
+        return ""
+    if prev.kind == "access" or tok.kind == "access":
+        return ""  # `?kid>&positionrho`, `?kid>$mood`
+    if tok.is_("("):
+        # `MV(`, `CND(`, `gt(` hug their parenthesis; a CLASS assignment's tests do not:
+        # `{CLASS #Human U ?kid (?THIS>&positionrho OP< 1.5)}`
+        return " " if prev.kind == "alias" else ""
+    return " "
+
+
+def _separators(toks: list[_Tok]) -> list[str]:
+    """seps[i] is what is written before toks[i]."""
+    seps = [""] * len(toks)
+    last: _Tok | None = None  # the previous token that is not a comment
+    before_last: _Tok | None = None
+    position = -1  # the position of `last` among the tokens that are not comments
+    for i, tok in enumerate(toks):
+        prev = toks[i - 1] if i else None
+        if prev is None:
+            pass
+        elif tok.kind == "comment":
+            seps[i] = "" if prev.kind == "punct" and prev.text in _OPENERS else " "
+        elif prev.kind == "comment":
+            seps[i] = "" if tok.kind == "punct" and (tok.text in _CLOSERS or tok.text in ",:") \
+                else " "
+        else:
+            seps[i] = _space(prev, tok, before_last, position)
+        if tok.kind != "comment":
+            before_last, last = last, tok
+            position += 1
+    return seps
+
+
+# Break points: token index -> (level, anchor). A break replaces the space before the token
+# with a line break and spaces up to the anchor's column; the anchor is ("start", j) (where
+# token j starts) or ("end", j) (where it ends). Level 1 breaks are taken together when the
+# item does not fit on one line; level 2 breaks only on a line that still does not fit.
+_Breaks = dict[int, tuple[int, tuple[str, int]]]
+
+
+def _code_indices(toks: list[_Tok]) -> list[int]:
+    return [i for i, t in enumerate(toks) if t.kind != "comment"]
+
+
+def _break_points(body: str, toks: list[_Tok]) -> _Breaks:
+    code = _code_indices(toks)
+    breaks: _Breaks = {}
+    # The body starts after `[ b # [label] # kind`: find the `:` after the kind word.
+    colon = next((j for j, i in enumerate(code) if toks[i].is_(":")), None)
+    if colon is None:
+        return breaks
+    rest = code[colon + 1 :]
+    if body == "inst_body":
+        first_track: int | None = None
+        depth = 0
+        open_paren = -1
+        for j, i in enumerate(rest):
+            tok = toks[i]
+            if depth == 0 and tok.kind == "name":
+                if first_track is None:
+                    first_track = i
+                else:
+                    breaks[i] = (1, ("start", first_track))
+            elif tok.is_("("):
+                depth += 1
+                open_paren = i
+            elif tok.is_(")"):
+                depth -= 1
+            elif tok.is_(",") and depth == 1 and j + 1 < len(rest):
+                breaks[rest[j + 1]] = (2, ("end", open_paren))
+    elif body == "jump_body":
+        cnd = rest[0] if rest else None
+        depth = 0
+        braces = 0
+        open_paren = -1
+        first_part = True
+        after_bang = False
+        for i in rest:
+            tok = toks[i]
+            if tok.is_("("):
+                depth += 1
+                if depth == 1:
+                    open_paren = i
+                    first_part = True
+                continue
+            if tok.is_(")"):
+                depth -= 1
+                continue
+            if depth == 0 and tok.kind == "name" and tok.text == "TRJMP" and cnd is not None:
+                breaks[i] = (1, ("start", cnd))
+            if depth == 1 and braces == 0 and (tok.is_("{") or tok.is_("!")):
+                if not first_part and not (tok.is_("{") and after_bang):
+                    breaks[i] = (2, ("end", open_paren))
+                first_part = False
+                after_bang = tok.is_("!")
+            elif depth == 1 and braces == 0:
+                after_bang = False
+            if tok.is_("{"):
+                braces += 1
+            elif tok.is_("}"):
+                braces -= 1
+                after_bang = False
+    elif body == "sensor_body":
+        first = rest[0] if rest else None
+        for j, i in enumerate(rest):
+            if toks[i].is_(",") and j + 1 < len(rest) and first is not None:
+                breaks[rest[j + 1]] = (1, ("start", first))
+    return breaks
+
+
+def _render(toks: list[_Tok], seps: list[str], breaks: _Breaks, taken: set[int], column: int,
+            nl: str) -> tuple[str, list[tuple[int, int, int]]]:
+    """The item's text with the `taken` breaks, and its lines as (first token, last token,
+    widest physical line) for deciding where else to break."""
+    starts: list[int] = [0] * len(toks)
+    ends: list[int] = [0] * len(toks)
+    out: list[str] = []
+    lines: list[tuple[int, int, int]] = []
+    line_first = 0
+    widest = column
+    col = column
+    for i, tok in enumerate(toks):
+        if i in taken:
+            lines.append((line_first, i - 1, widest))
+            kind, j = breaks[i][1]
+            indent = starts[j] if kind == "start" else ends[j]
+            out.append(nl + " " * indent)
+            col = widest = indent
+            line_first = i
+        else:
+            out.append(seps[i])
+            col += len(seps[i])
+        starts[i] = col
+        piece = tok.text
+        out.append(piece)
+        if "\n" in piece or "\r" in piece:  # a comment of several lines
+            physical = _BREAK.split(piece)
+            widest = max(widest, col + len(physical[0]), *(len(p) for p in physical[1:-1]))
+            col = len(physical[-1])
+        else:
+            col += len(piece)
+        ends[i] = col
+        widest = max(widest, col)
+    lines.append((line_first, len(toks) - 1, widest))
+    return "".join(out), lines
+
+
+def _normalize_command(track: str, literal: str) -> str:
+    """A command string with the canonical `, ` between its fields, or as it is when that
+    could change what it means. Fields are split and trimmed exactly as lowering does
+    (`scriptc.ir.lower`), and the audio path is kept byte for byte, so the compiled values
+    are the same; strings with a backslash in a number field are left alone (trimming next
+    to a backslash would change which character it escapes)."""
+    raw = literal[1:-1]
+    parts = raw.split(",")
+    if track in ("MV", "LD"):
+        if len(parts) != (5 if track == "MV" else 6) or "\\" in raw:
+            return literal
+        fields = [p.strip() for p in parts]
+        if not all(fields):
+            return literal
+        return '"' + ", ".join(fields) + '"'
+    if track != "AO" or len(parts) < 3 or "\\" in parts[-1] or "\\" in parts[-2]:
+        return literal
+    wait_t, duration = parts[-2].strip(), parts[-1].strip()
+    if not wait_t or not duration:
+        return literal
+    # The path: from the first field's first non-blank character to the last path field's
+    # last one, as lowering reads it.
+    pos = 0
+    bounds = []
+    for part in parts[:-2]:
+        lead = len(part) - len(part.lstrip())
+        at = pos + lead
+        bounds.append((at, at + len(part.strip())))
+        pos += len(part) + 1
+    path = raw[bounds[0][0] : bounds[-1][1]]
+    if not path:
+        return literal
+    return f'"{path}, {wait_t}, {duration}"'
+
+
+def _normalize_commands(toks: list[_Tok]) -> None:
+    """Canonical spacing inside the command strings of MV(...), LD(...), AO(...)."""
+    track = None
+    depth = 0
+    last: _Tok | None = None  # the previous token that is not a comment
+    for tok in toks:
+        if tok.kind != "comment":
+            before, last = last, tok
+        if tok.is_("("):
+            if depth == 0 and before is not None and before.kind == "name":
+                track = before.text
+            depth += 1
+        elif tok.is_(")"):
+            depth -= 1
+            if depth == 0:
+                track = None
+        elif tok.kind == "str" and depth == 1 and track is not None:
+            tok.text = _normalize_command(track, tok.text)
+
+
+def _body_kind(tree: Tree) -> str:
+    if _kind(tree) != "block":
+        return ""
+    body = tree.children[1]
+    return _kind(body) if hasattr(body, "data") else ""
+
+
+def _render_item(text: str, item: ParsedItem, column: int, nl: str) -> str:
+    """The canonical text of one item that starts at `column`; checked by parsing it again."""
+    toks = _tokens(text[item.span.start : item.span.end])
+    body = _body_kind(item.tree)
+    if body == "inst_body":
+        _normalize_commands(toks)
+    seps = _separators(toks)
+    breaks = _break_points(body, toks)
+    out, lines = _render(toks, seps, breaks, set(), column, nl)
+    if lines[0][2] > LINE_WIDTH and breaks:
+        taken = {i for i, (level, _) in breaks.items() if level == 1}
+        out, lines = _render(toks, seps, breaks, taken, column, nl)
+        more = {
+            i
+            for first, last, widest in lines
+            if widest > LINE_WIDTH
+            for i, (level, _) in breaks.items()
+            if level == 2 and first < i <= last
+        }
+        if more:
+            out, _ = _render(toks, seps, breaks, taken | more, column, nl)
+    if out != text[item.span.start : item.span.end]:  # an unchanged item needs no check
+        _verify_item(item, out)
+    return out
+
+
+# ---------------------------------------------------------------------------------------------
+# Checks: the formatted text must mean what the original meant.
+
+
+def _same_tree(a: Tree, b: Tree) -> bool:
+    """Trees equal in structure and token text; command strings compared after the
+    formatter's own normalization (which `_normalize_command` documents)."""
+    stack = [(a, b, None)]
+    while stack:
+        x, y, track = stack.pop()
+        if x is None or y is None:
+            if x is not y:
+                return False
+        elif isinstance(x, str):
+            if not isinstance(y, str) or x.type != y.type:
+                return False
+            sx, sy = str(x), str(y)
+            if track is not None and x.type.endswith("STRING"):
+                sx, sy = _normalize_command(track, sx), _normalize_command(track, sy)
+            if sx != sy:
+                return False
+        else:
+            if isinstance(y, str) or x.data != y.data or len(x.children) != len(y.children):
+                return False
+            inner = str(x.children[0]) if _kind(x) == "track" and x.children else None
+            stack.extend((p, q, inner) for p, q in zip(x.children, y.children))
+    return True
+
+
+def _verify_item(item: ParsedItem, out: str) -> None:
+    again = parse_items(out)
+    if again.diagnostics or len(again.items) != 1:
+        raise FormatterError(f"the formatted item does not parse: {out!r}")
+    if not _same_tree(item.tree, again.items[0].tree):
+        raise FormatterError(f"the formatted item means something else: {out!r}")
+
+
+def _verify_whole(text: str, out: str, items: list[ParsedItem], comments: list[Span]) -> None:
+    again = scan(out)
+    if again.diagnostics or len(again.items) != len(items):
+        raise FormatterError("the formatted text does not hold the same items")
+    before = [text[c.start : c.end] for c in comments]
+    after = [out[c.start : c.end] for c in again.comments]
+    if before != after:
+        raise FormatterError("the formatted text does not hold the same comments")
