@@ -24,6 +24,7 @@ VERBS: dict[str, tuple[str, str]] = {
     "decompile": ("scriptc.cli.decompile", "Turn thesis JSON back into script syntax."),
     "explain": ("scriptc.cli.explain", "Explain a diagnostic code."),
     "fmt": ("scriptc.cli.fmt", "Format scripts in the canonical layout, comments kept."),
+    "run": ("scriptc.cli.run", "Run scripts in simulated time (with a scenario, a trace)."),
 }
 
 INTERNAL_ERROR_HINT = (

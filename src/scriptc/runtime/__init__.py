@@ -1,0 +1,52 @@
+"""The runtime: scripts running in simulated time (RUNTIME.md; docs/runtime.md).
+
+Shared by every executor (what a bytecode VM reuses as it is):
+
+- `clock`       the event queue (simulated ms, heapq; no wall clock)
+- `values`      plain run-time values (commands, positions, rule messages), number/text compare
+- `world`       the map: entities, robot status, script info; MapUpdate with R/A policies
+- `bindings`    aliases (one per entity), VARs, ATTs and their scopes U/T/L
+- `functions`   B/F/E implementations and the registration API for an activity's own
+- `evaluate`    condition evaluation: `EvalContext` primitives, and the IR evaluator
+- `rules`       the chain (A R D B C, L M U), the rule library by rulecode
+- `actuators`   track timing, outputs, the operator's joystick
+- `robots/`     robot backends (`kinematic`; MuJoCo next)
+- `scenario`    world files: timed MapUpdates and operator events
+- `trace`       JSON-lines traces
+- `session`     the LIFO, `idle_activity` (`idle`), the loop of thesis 4.2
+
+Executor-specific (one per way of reading a script's blocks; `executor.py` is the contract):
+
+- `interp`      the reference interpreter over the IR (the executable spec)
+
+Nothing here imports the driver or the CLI; `scriptc run` (cli/run.py) glues them together.
+"""
+
+from __future__ import annotations
+
+_EXPORTS = {
+    "Session": "scriptc.runtime.session",
+    "Result": "scriptc.runtime.session",
+    "LoadError": "scriptc.runtime.session",
+    "IRProgram": "scriptc.runtime.interp",
+    "Trace": "scriptc.runtime.trace",
+    "load_scenario": "scriptc.runtime.scenario",
+    "scenario_from_data": "scriptc.runtime.scenario",
+    "ScenarioError": "scriptc.runtime.scenario",
+    "Implementations": "scriptc.runtime.functions",
+    "STANDARD_IMPLEMENTATIONS": "scriptc.runtime.functions",
+    "RuleLibrary": "scriptc.runtime.rules",
+    "STANDARD_RULES": "scriptc.runtime.rules",
+    "Rule": "scriptc.runtime.rules",
+}
+
+__all__ = list(_EXPORTS)
+
+
+def __getattr__(name: str):
+    module = _EXPORTS.get(name)
+    if module is None:
+        raise AttributeError(f"module 'scriptc.runtime' has no attribute {name!r}")
+    import importlib
+
+    return getattr(importlib.import_module(module), name)

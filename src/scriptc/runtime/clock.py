@@ -1,0 +1,59 @@
+"""Simulated time: one integer clock in milliseconds and a queue of future events.
+
+Nothing in the runtime reads the wall clock (RUNTIME.md "Time"). The session jumps from one
+event to the next (a heap: each push and pop is O(log n), no per-millisecond ticking), so a
+ten-minute activity costs what its events cost, not what its minutes cost.
+
+Events at the same millisecond are popped in a fixed order: by `prio` (track progress of the
+actuators, then the operator's timers, then operator events, then sensor updates; see
+docs/runtime.md "Equal times"), then in the order they were pushed. That order is what makes
+two runs of the same inputs identical.
+"""
+
+from __future__ import annotations
+
+import heapq
+from collections.abc import Callable
+from typing import Any
+
+# Priorities among events of the same millisecond (smaller first).
+PRIO_TRACK = 0  # + track index 0..2 (move, led, audioout)
+PRIO_OPERATOR_TIMER = 3
+PRIO_OPERATOR = 4
+PRIO_UPDATE = 5
+
+# A handler returns False when its event turned out stale (cancelled): an instant where only
+# stale events fell is not a loop (time does not even move there).
+Handler = Callable[[int, Any], bool]
+
+
+class EventQueue:
+    """Future events as `(time, prio, seq, handler, arg)`; `handler(time, arg)` runs when the
+    event is popped and returns whether anything happened. Cancelling is the handler's
+    business (a stale generation number in `arg` makes it return False at once), which keeps
+    every operation O(log n)."""
+
+    __slots__ = ("_heap", "_seq")
+
+    def __init__(self) -> None:
+        self._heap: list[tuple[int, int, int, Handler, Any]] = []
+        self._seq = 0
+
+    def push(self, time: int, prio: int, handler: Handler, arg: Any = None) -> None:
+        self._seq += 1
+        heapq.heappush(self._heap, (time, prio, self._seq, handler, arg))
+
+    def next_time(self) -> int | None:
+        """The time of the earliest event, or None when nothing is scheduled."""
+        return self._heap[0][0] if self._heap else None
+
+    def pop_due(self, time: int) -> tuple[Handler, Any] | None:
+        """The next event at `time` (None when the earliest is later or there is none)."""
+        heap = self._heap
+        if heap and heap[0][0] <= time:
+            _t, _p, _s, handler, arg = heapq.heappop(heap)
+            return handler, arg
+        return None
+
+    def __len__(self) -> int:
+        return len(self._heap)

@@ -1,0 +1,177 @@
+"""Run-time implementations of the rule grammar's B/F/E functions, and the registration API
+for an activity's own functions. Shared by every executor.
+
+`ir/builtins.py` holds the *signatures* the checker knows; this module holds the Python that
+runs. An `Implementations` table maps a name to a `FunctionImpl` (name, kind, arity, callable,
+doc) and can hand the checker the matching `FunctionRegistry` (`registry()`), so a script is
+checked against exactly the functions that will run it.
+
+A function is called as `fn(call, *args)`: `call` is a `CallContext` (the map, the time, the
+candidate entity for a B function, the bindings, and `goal_reached`), `args` the evaluated
+arguments: texts, numbers, or None for a missing value (an unbound alias, a field never set).
+B and E functions return a truth value, F functions a text (a number is turned into text; None
+makes the VAR/ATT assignment fail). Configuration files come in a later issue; until then
+activities register functions programmatically:
+
+    impls = STANDARD_IMPLEMENTATIONS.extended()
+    impls.register("closer", "E", 2, lambda call, a, b: ..., doc="...")
+    Session(functions=impls, ...)
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
+from typing import Any
+
+from scriptc.ir.builtins import STANDARD_FUNCTIONS, Function, FunctionRegistry, Param
+from scriptc.runtime.values import Value, as_number, compare, to_text
+from scriptc.runtime.world import Entity, World
+
+KINDS = ("B", "F", "E")
+
+
+class CallContext:
+    """What a function sees besides its arguments."""
+
+    __slots__ = ("world", "now", "this", "bindings", "session")
+
+    def __init__(self, world: World, now: int, this: Entity | None, bindings, session) -> None:
+        self.world = world
+        self.now = now
+        self.this = this  # the candidate entity of a CLASS assignment (B functions)
+        self.bindings = bindings
+        self.session = session  # the running session, for goal_reached (may be None)
+
+    def goal_reached(self, goalid: str) -> bool:
+        """True when the map records `goalid` as reached by the running script since it was
+        loaded (docs/runtime.md "Goals")."""
+        if self.session is None:
+            return any(r.get("goalid") == goalid for r in self.world.goal_records("goalreached"))
+        return self.session.goal_reached(goalid)
+
+
+@dataclass(frozen=True, slots=True)
+class FunctionImpl:
+    name: str
+    kind: str
+    arity: int
+    fn: Callable[..., Any]
+    doc: str = ""
+    params: tuple[str, ...] = ()
+    origin: str = "standard"
+
+    def signature(self) -> Function:
+        """The signature the checker validates calls against."""
+        names = self.params or tuple(f"arg{i + 1}" for i in range(self.arity))
+        return Function(self.name, self.kind, tuple(Param(n, "") for n in names), self.doc,
+                        self.origin)
+
+
+class FunctionError(Exception):
+    """A function failed at run time (unknown, wrong arity, or it raised): the call counts as
+    false (B, E) or as a failed assignment (F), and the session reports it in the trace."""
+
+
+class Implementations:
+    """Function implementations by name (names are unique across kinds)."""
+
+    def __init__(self, impls: Iterable[FunctionImpl] = ()) -> None:
+        self._by_name: dict[str, FunctionImpl] = {}
+        for impl in impls:
+            self._by_name[impl.name] = impl
+
+    def register(self, name: str, kind: str, arity: int, fn: Callable[..., Any], doc: str = "",
+                 params: tuple[str, ...] = (), origin: str = "user") -> FunctionImpl:
+        """Add (or replace) a function. `fn(call, *args)`; see the module's docstring."""
+        if kind not in KINDS:
+            raise ValueError(f"a function's kind is B, F or E, not {kind!r}")
+        if not name.isidentifier():
+            raise ValueError(f"{name!r} is not a function name")
+        if params and len(params) != arity:
+            raise ValueError(f"{name}: {len(params)} parameter names for arity {arity}")
+        impl = FunctionImpl(name, kind, arity, fn, doc, tuple(params), origin)
+        self._by_name[name] = impl
+        return impl
+
+    def get(self, name: str) -> FunctionImpl | None:
+        return self._by_name.get(name)
+
+    def __iter__(self):
+        return iter(self._by_name.values())
+
+    def extended(self, impls: Iterable[FunctionImpl] = ()) -> Implementations:
+        """A copy with more functions (the standard table is never changed in place)."""
+        return Implementations([*self._by_name.values(), *impls])
+
+    def registry(self) -> FunctionRegistry:
+        """The signatures, for `check_script(..., functions=...)`."""
+        return FunctionRegistry(impl.signature() for impl in self._by_name.values())
+
+    def call(self, name: str, kind: str, args: list[Value], call: CallContext) -> Any:
+        """Run a function; raises FunctionError when it cannot (see the class)."""
+        impl = self._by_name.get(name)
+        if impl is None:
+            raise FunctionError(f"no function `{name}` is registered")
+        if impl.kind != kind:
+            raise FunctionError(f"`{name}` is a {impl.kind} function, called as {kind}")
+        if len(args) != impl.arity:
+            raise FunctionError(f"`{name}` takes {impl.arity} argument(s), given {len(args)}")
+        try:
+            result = impl.fn(call, *args)
+        except Exception as exc:  # noqa: BLE001 - a user's function must not stop the robot
+            raise FunctionError(f"`{name}` raised {type(exc).__name__}: {exc}") from exc
+        if kind == "F":
+            return result if result is None or isinstance(result, str) else to_text(result)
+        return bool(result)
+
+
+# ---------------------------------------------------------------------------------------------
+# The standard functions (signatures in ir/builtins.py, STANDARD_FUNCTIONS)
+
+
+def _cmp(test: Callable[[int], bool]) -> Callable[..., bool]:
+    def fn(call: CallContext, a: Value, b: Value) -> bool:
+        c = compare(a, b)
+        return c is not None and test(c)
+
+    return fn
+
+
+def _near(call: CallContext, distance: Value) -> bool:
+    if call.this is None:
+        return False
+    rho, limit = as_number(call.this.fields.get("positionrho")), as_number(distance)
+    return rho is not None and limit is not None and rho < limit
+
+
+def _goalreached(call: CallContext, goalid: Value) -> bool:
+    return goalid is not None and call.goal_reached(to_text(goalid) or "")
+
+
+def _str(call: CallContext, value: Value) -> str | None:
+    return to_text(value)
+
+
+def _now(call: CallContext) -> str:
+    return str(call.now)
+
+
+_STANDARD_CALLABLES: dict[str, Callable[..., Any]] = {
+    "eq": _cmp(lambda c: c == 0),
+    "neq": _cmp(lambda c: c != 0),
+    "lt": _cmp(lambda c: c < 0),
+    "gt": _cmp(lambda c: c > 0),
+    "le": _cmp(lambda c: c <= 0),
+    "ge": _cmp(lambda c: c >= 0),
+    "goalreached": _goalreached,
+    "near": _near,
+    "str": _str,
+    "now": _now,
+}
+
+STANDARD_IMPLEMENTATIONS = Implementations(
+    FunctionImpl(f.name, f.kind, f.arity, _STANDARD_CALLABLES[f.name], f.doc,
+                 tuple(p.name for p in f.params))
+    for f in STANDARD_FUNCTIONS
+)

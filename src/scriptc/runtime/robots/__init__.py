@@ -1,0 +1,54 @@
+"""Robot backends: what turns the actuators' velocity commands into a pose.
+
+A backend implements `Robot`: `set_velocity(t_ms, v_x, v_y, v_theta)` (body-frame speeds from
+`t_ms` on, m/s and rad/s), `advance(t_ms)` (bring the simulation up to `t_ms`) and `pose()`
+(world frame: metres and radians, starting at the origin facing +x; `theta` is not wrapped,
+so a full turn reads 2π). Times only grow; the session calls `set_velocity` only when the
+effective velocity changes, so a backend sees O(events) calls, never one per millisecond.
+
+Backends by name (`--robot NAME`): `kinematic` (exact integration, `kinematic.py`). A MuJoCo
+backend comes next and plugs in here (`ROBOTS`), importing mujoco only in its own module.
+"""
+
+from __future__ import annotations
+
+import importlib
+from typing import NamedTuple, Protocol
+
+
+class Pose(NamedTuple):
+    x: float
+    y: float
+    theta: float
+
+    def as_dict(self) -> dict:
+        return {"x": self.x, "y": self.y, "theta": self.theta}
+
+
+class Robot(Protocol):
+    name: str
+
+    def set_velocity(self, t_ms: int, v_x: float, v_y: float, v_theta: float) -> None: ...
+
+    def advance(self, t_ms: int) -> None: ...
+
+    def pose(self) -> Pose: ...
+
+
+# name -> "module:class"
+ROBOTS: dict[str, str] = {
+    "kinematic": "scriptc.runtime.robots.kinematic:KinematicRobot",
+}
+
+
+class UnknownRobot(ValueError):
+    pass
+
+
+def make_robot(name: str) -> Robot:
+    """A fresh backend by name (see `ROBOTS`)."""
+    target = ROBOTS.get(name)
+    if target is None:
+        raise UnknownRobot(f"unknown robot `{name}` (known: {', '.join(sorted(ROBOTS))})")
+    module, _, cls = target.partition(":")
+    return getattr(importlib.import_module(module), cls)()

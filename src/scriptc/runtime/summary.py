@@ -1,0 +1,52 @@
+"""What `scriptc run` prints: a readable summary of a `Result`, or one JSON object."""
+
+from __future__ import annotations
+
+import json
+
+from scriptc.runtime.session import Result
+
+_OUTCOMES = {
+    "completed": "every script ended",
+    "until": "stopped at the time limit",
+    "stalled": "nothing more could happen (the block is frozen and nothing is scheduled)",
+    "error": "stopped by an error",
+}
+
+
+_CAPPED = ("the scripts did not end within the default limit of one hour of simulated time "
+           "(pass --until to run longer)")
+
+
+def summary_json(result: Result, trace_path: str | None = None, capped: bool = False) -> str:
+    data = result.as_dict()
+    data["trace"] = trace_path
+    if capped:
+        data["note"] = _CAPPED
+    return json.dumps(data, ensure_ascii=False, indent=2) + "\n"
+
+
+def _goals(goals: dict[str, str]) -> str:
+    if not goals:
+        return "no goal recorded"
+    return ", ".join(f"{g} {record}" for g, record in goals.items())
+
+
+def summary_text(result: Result, trace_path: str | None = None, capped: bool = False) -> str:
+    lines = [f"{result.outcome} at {result.time_ms} ms ({result.time_ms / 1000:.3f} s "
+             f"simulated): {_OUTCOMES.get(result.outcome, result.outcome)}"]
+    if capped:
+        lines.append(f"  note: {_CAPPED}")
+    for load in result.loads:
+        end = (f"ended by {load.ended_by.replace('_', ' ')} at {load.ended_ms} ms"
+               if load.ended_by else "still running")
+        lines.append(f"  {load.script}: loaded at {load.loaded_ms} ms ({load.reason}), {end}; "
+                     f"{_goals(load.goals)}")
+    p = result.pose
+    lines.append(f"  pose: x = {p.x:.4f} m, y = {p.y:.4f} m, theta = {p.theta:.4f} rad")
+    for error in result.errors:
+        lines.append(f"  {'error' if error.get('fatal') else 'warning'} at {error['t']} ms "
+                     f"[{error['code']}]: {error['message']}")
+    if trace_path:
+        lines.append(f"  trace: {trace_path} ({len(result.trace.events)} events)")
+    return "\n".join(lines) + "\n"

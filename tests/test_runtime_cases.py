@@ -1,0 +1,157 @@
+"""Runtime case files (tests are data): a script, an optional scenario, the expected trace.
+
+Under tests/cases/runtime/:
+
+- `NAME.script` (or `NAME.json`, thesis JSON) is a case. It runs through the library, as
+  `scriptc run` runs it, and its trace must equal `NAME.trace.jsonl`. With `NAME.world` the run
+  has that scenario; each `NAME.VARIANT.world` is one more run of the same script, expected in
+  `NAME.VARIANT.trace.jsonl`.
+- A line `run: ARGS` in the script's first comment gives more options: `--until MS`, `--also
+  FILE` (queue one more script after it; repeatable), `--catalogue FILE` (a script an
+  override or a `script_vect` update may name; repeatable), `--stay-idle` (do not end when the
+  queue is empty: run `idle_activity`), `--unchecked` (run although the checker reports
+  errors: for the cases of run-time misuse), `--max-loops N` (loops at one instant before the
+  session gives up; keeps the trace of a no-progress case short). FILE is relative to the
+  case's folder.
+- Helper scripts live in `lib/`.
+
+Every trace is also validated against `schemas/trace.schema.json`, and each case runs twice:
+the two traces must be identical, byte for byte. Each case runs through every executor of
+`EXECUTORS` (the IR interpreter today; the bytecode VM joins it) against the same expected
+trace. `UPDATE_EXPECT=1` rewrites the expected
+traces; review the diff.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+import shlex
+import sys
+from pathlib import Path
+
+import pytest
+
+from harness import CASES, expect
+from scriptc.driver import analyze_file
+from scriptc.runtime.interp import IRProgram
+from scriptc.runtime.scenario import load_scenario
+from scriptc.runtime.session import LoadError, Session
+from scriptc.runtime.trace import Trace
+
+RUNTIME = CASES / "runtime"
+
+
+# The executors every case runs through; each must write the same trace, byte for byte.
+# FIXME(vm): add "vm": compile the analysis to bytecode (driver.emit(..., "bytecode")), load it
+# (scriptc.bytecode.load) and wrap it in the VM's runtime Program. Only the executor changes;
+# the session, map, rules, actuators and trace are shared (docs/runtime.md).
+EXECUTORS = {
+    "ir": lambda analysis, shown: IRProgram(analysis.script, shown),
+}
+EXECUTOR = "ir"  # the one `_program` uses; the test sets it per run
+
+
+def _program(path: Path, unchecked: bool = False):
+    analysis = analyze_file(path, "json" if path.suffix == ".json" else "script",
+                            name=str(path.relative_to(CASES)))
+    assert analysis.script is not None, analysis.diagnostics
+    if not unchecked:
+        assert analysis.ok, [d.message for d in analysis.diagnostics]
+    return EXECUTORS[EXECUTOR](analysis, str(path.relative_to(CASES)))
+
+
+def _options(path: Path) -> dict:
+    text = path.read_text(encoding="utf-8")
+    m = re.search(r"^\s*run:(.*)$", text, re.MULTILINE) if path.suffix == ".script" else None
+    args = shlex.split(m.group(1).rstrip().rstrip("%")) if m else []
+    options = {"until": None, "also": [], "catalogue": [], "stay_idle": False, "unchecked": False,
+               "max_loops": 10_000}
+    it = iter(args)
+    for arg in it:
+        if arg == "--until":
+            options["until"] = int(next(it))
+        elif arg in ("--also", "--catalogue"):
+            options[arg[2:]].append(next(it))
+        elif arg == "--max-loops":
+            options["max_loops"] = int(next(it))
+        elif arg == "--stay-idle":
+            options["stay_idle"] = True
+        elif arg == "--unchecked":
+            options["unchecked"] = True
+        else:
+            raise AssertionError(f"{path.name}: unknown run option {arg}")
+    return options
+
+
+def _loader(folder: Path):
+    def load(path: str):
+        p = Path(path)
+        if not p.exists():
+            raise LoadError(f"`{p.name}` does not exist")
+        return _program(p)
+
+    return load
+
+
+def run_case(path: Path, world: Path | None) -> Trace:
+    options = _options(path)
+    folder = path.parent
+    unchecked = options["unchecked"]
+    programs = [_program(path, unchecked)] + [_program(folder / f, unchecked) for f in options["also"]]
+    catalogue = [_program(folder / f) for f in options["catalogue"]]
+    scenario = load_scenario(str(world)) if world is not None else None
+    if scenario is not None:
+        scenario.path = str(world.relative_to(CASES))  # the same text on every machine
+    trace = Trace()
+    Session(programs, scenario=scenario, trace=trace, catalogue=catalogue,
+            stop_when_done=not options["stay_idle"], loader=_loader(folder),
+            max_loops_per_instant=options["max_loops"]).run(options["until"])
+    return trace
+
+
+def _runs() -> list[tuple[Path, Path | None, Path]]:
+    runs = []
+    for path in sorted([*RUNTIME.glob("*.script"), *RUNTIME.glob("*.json")]):
+        stem = path.name[: -len(path.suffix)]
+        default = RUNTIME / f"{stem}.world"
+        variants = sorted(p for p in RUNTIME.glob(f"{stem}.*.world"))
+        runs.append((path, default if default.exists() else None, RUNTIME / f"{stem}.trace.jsonl"))
+        for v in variants:
+            variant = v.name[len(stem) + 1: -len(".world")]
+            runs.append((path, v, RUNTIME / f"{stem}.{variant}.trace.jsonl"))
+    return runs
+
+
+RUNS = _runs()
+
+
+@pytest.fixture(scope="module")
+def trace_validator():
+    import jsonschema
+
+    from scriptc.resources import schema_path
+
+    schema = json.loads(schema_path("trace.schema.json").read_text(encoding="utf-8"))
+    return jsonschema.Draft202012Validator(schema)
+
+
+@pytest.mark.parametrize("executor", list(EXECUTORS))
+@pytest.mark.parametrize("path, world, expected", RUNS,
+                         ids=[e.name[: -len(".trace.jsonl")] for _, _, e in RUNS])
+def test_runtime_case(path: Path, world: Path | None, expected: Path, executor: str,
+                      trace_validator, monkeypatch) -> None:
+    monkeypatch.setattr(sys.modules[__name__], "EXECUTOR", executor)
+    first = run_case(path, world)
+    text = first.text()
+    assert run_case(path, world).text() == text, "two runs of the same inputs differ"
+    for event in first.events:
+        errors = [e.message for e in trace_validator.iter_errors(event)]
+        assert not errors, (event, errors)
+    expect(expected, text)
+
+
+def test_every_expected_trace_has_a_case() -> None:
+    wanted = {e for _, _, e in RUNS}
+    stale = [p.name for p in RUNTIME.glob("*.trace.jsonl") if p not in wanted]
+    assert not stale, f"expected traces without a case: {stale}"
