@@ -180,8 +180,10 @@ def _cycles(ctx: Context, succ: list[tuple[int, ...]], out: list[Diagnostic]) ->
     blocks = ctx.blocks
     # Reading blocks stops only at an instruction block (the next tick) or a terminus; the map
     # does not change in between (thesis 4.2), so a cycle without an instruction block, once
-    # entered, repeats the same decisions forever.
-    keep = [not isinstance(b, InstructionBlock) for b in blocks]
+    # entered, repeats the same decisions forever. An instruction block that takes no time
+    # (`MV() LD() AO()`, or only zero waits and durations) is consumed in the same millisecond
+    # it is issued, so it does not let time pass either.
+    keep = [not isinstance(b, InstructionBlock) or b.duration_ms == 0 for b in blocks]
     nodes = [i for i, k in enumerate(keep) if k]
     for component in strongly_connected(nodes, succ, keep):
         if len(component) == 1:
@@ -196,10 +198,15 @@ def _cycles(ctx: Context, succ: list[tuple[int, ...]], out: list[Diagnostic]) ->
                  "cycle it repeats the same jumps forever inside one tick"]
         if len(others) > _MAX_CYCLE_LABELS:
             notes.append(f"{len(others) - _MAX_CYCLE_LABELS} more blocks are part of the cycle")
+        timeless = [v for v in component if isinstance(blocks[v], InstructionBlock)]
+        if timeless:
+            notes.append(f"{len(timeless)} instruction block{'s' if len(timeless) > 1 else ''} "
+                         "in the cycle take no time: every wait and duration is 0")
         message = (
             "this jump block jumps to itself without passing an instruction block"
             if not others
             else f"{len(component)} blocks form a cycle that passes no instruction block"
+            + (" that takes time" if timeless else "")
         )
         out.append(
             diagnostic(

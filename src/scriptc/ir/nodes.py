@@ -298,6 +298,22 @@ class InstructionBlock:
     audios: tuple[AudioCommand, ...]
     span: Span
 
+    @property
+    def duration_ms(self) -> int | None:
+        """How long the block runs: its three tracks start together and each runs its
+        commands one after the other, `wait_t` then `duration` (RUNTIME.md), so the block
+        lasts as long as its longest track. None when a time is not a whole number."""
+        longest = 0
+        for track in (self.moves, self.leds, self.audios):
+            total = 0
+            for command in track:
+                for number in (command.wait_t, command.duration):
+                    if not number.is_integer_text:
+                        return None
+                    total += int(number.text)
+            longest = max(longest, total)
+        return longest
+
 
 @dataclass(frozen=True, slots=True)
 class JumpBlock:
