@@ -365,7 +365,7 @@ def test_compile_bad_input_paths_exit_2(files: Path) -> None:
 
 def test_compile_emit_is_a_choice(files: Path) -> None:
     assert run("compile", "clean.script", "--emit", "json", "-o", "-").exit_code == 0
-    assert run("compile", "clean.script", "--emit", "bytecode").exit_code == 2
+    assert run("compile", "clean.script", "--emit", "wasm").exit_code == 2
 
 
 def test_compile_invalid_utf8_writes_nothing(files: Path) -> None:

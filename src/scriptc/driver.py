@@ -249,16 +249,24 @@ def analyze_paths(paths: list[str] | tuple[str, ...], kind: str = "script", *,
 # module and function turning a checked Script into the output text). Bytecode joins here.
 EMITTERS: dict[str, tuple[str, str, str]] = {
     "json": (".json", "scriptc.emit.json", "emit_json"),
+    "bytecode": (".scb", "scriptc.emit.codegen", "emit_bytecode"),
 }
+# Back ends that also take the SourceFile: the bytecode records lines and columns of spans.
+_WITH_SOURCE = frozenset({"bytecode"})
 
 
-def emit(script: Script, back_end: str = "json") -> str:
-    """The output text of one back end for a checked script."""
+def emit(script: Script, back_end: str = "json", source: SourceFile | None = None
+         ) -> str | bytes:
+    """The output of one back end for a checked script: text (json) or bytes (bytecode).
+    `source`, when given, lets the bytecode carry source lines (docs/bytecode.md)."""
     import importlib
 
     _suffix, module, function = EMITTERS[back_end]
+    emitter = getattr(importlib.import_module(module), function)
     with gc_paused():
-        return getattr(importlib.import_module(module), function)(script)
+        if back_end in _WITH_SOURCE:
+            return emitter(script, source)
+        return emitter(script)
 
 
 def decompile(script: Script) -> str:

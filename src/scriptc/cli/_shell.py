@@ -96,10 +96,11 @@ def show(results: list[driver.Analysis], format_: str = "text", *, err: bool = F
         write_bytes(output.encode("utf-8"))
 
 
-def write_output(path: str, text: str) -> None:
-    """An output file written atomically (`-` is stdout); a failure is a CliError."""
+def write_output(path: str, text: str | bytes) -> None:
+    """An output file written atomically (`-` is stdout); a failure is a CliError. Text is
+    written as UTF-8; bytes (bytecode) as they are."""
     if path == "-":
-        write_bytes(text.encode("utf-8"))
+        write_bytes(text if isinstance(text, bytes) else text.encode("utf-8"))
         return
     try:
         driver.write_atomic(path, text)

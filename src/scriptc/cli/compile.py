@@ -1,4 +1,5 @@
-"""`scriptc compile FILE [-o OUT] [--emit json]`: a script to thesis JSON.
+"""`scriptc compile FILE [-o OUT] [--emit json|bytecode]`: a script to thesis JSON (the
+default) or to bytecode (`.scb`, with the source's lines in its span table).
 
 Without `-o` the output goes beside the input with the back end's suffix (`dance.script` ->
 `dance.json`); input from stdin (`-`) goes to stdout; `-o -` writes to stdout. The output is
@@ -24,10 +25,10 @@ from scriptc.cli._shell import load, refuse_overwriting_input, show, stdin_name_
 @click.pass_context
 def command(ctx: click.Context, file: str, output: str | None, back_end: str,
             stdin_name: str) -> None:
-    """Compile a script (- for stdin) to thesis JSON.
+    """Compile a script (- for stdin) to thesis JSON or bytecode (--emit bytecode).
 
     Without -o the output goes beside FILE with the back end's suffix (dance.script ->
-    dance.json), or to stdout when FILE is -. Nothing is written when the script has errors,
+    dance.json, dance.scb), or to stdout when FILE is -. Nothing is written when the script has errors,
     and never over FILE itself. Diagnostics go to stderr.
     """
     output = output or driver.default_output(file, back_end)
@@ -36,4 +37,4 @@ def command(ctx: click.Context, file: str, output: str | None, back_end: str,
     show([analysis], err=True)
     if not analysis.ok:
         ctx.exit(1)
-    write_output(output, driver.emit(analysis.script, back_end))
+    write_output(output, driver.emit(analysis.script, back_end, analysis.source))

@@ -25,6 +25,7 @@ VERBS: dict[str, tuple[str, str]] = {
     "explain": ("scriptc.cli.explain", "Explain a diagnostic code."),
     "fmt": ("scriptc.cli.fmt", "Format scripts in the canonical layout, comments kept."),
     "run": ("scriptc.cli.run", "Run scripts in simulated time (with a scenario, a trace)."),
+    "dis": ("scriptc.cli.dis", "Print the listing of a bytecode (.scb) file."),
 }
 
 INTERNAL_ERROR_HINT = (

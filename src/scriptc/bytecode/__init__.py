@@ -1,0 +1,33 @@
+"""The `.scb` bytecode: the contract between the compiler and any VM (docs/bytecode.md).
+
+- `opcodes.py`: THE opcode table; `layout.py`: the byte layout of the file's records.
+- `program.py`: a Program in memory; `code.py`: instructions as bytes (assembler and reader).
+- `encode.py` (Program -> bytes), `decode.py` (bytes -> Program, or MalformedError),
+  `verify.py` (Program -> ok, or InvalidError; `load` = decode + verify), `disasm.py` (the
+  listing), `docs.py` (the generated parts of docs/bytecode.md).
+
+This package depends on the format only: it does not import the IR. Codegen
+(`scriptc.emit.codegen`) is the bridge from the IR.
+"""
+
+from scriptc.bytecode.decode import decode
+from scriptc.bytecode.disasm import disassemble
+from scriptc.bytecode.encode import encode
+from scriptc.bytecode.errors import BytecodeError, InvalidError, MalformedError
+from scriptc.bytecode.layout import FORMAT_VERSION, MAGIC
+from scriptc.bytecode.program import Program
+from scriptc.bytecode.verify import load, verify
+
+__all__ = [
+    "BytecodeError",
+    "FORMAT_VERSION",
+    "InvalidError",
+    "MAGIC",
+    "MalformedError",
+    "Program",
+    "decode",
+    "disassemble",
+    "encode",
+    "load",
+    "verify",
+]

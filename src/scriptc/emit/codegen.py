@@ -1,0 +1,402 @@
+"""IR -> a bytecode Program (docs/bytecode.md): the bridge between the IR and `scriptc.bytecode`,
+which knows nothing of the IR.
+
+Each block becomes a run of instructions, in the order of the script:
+
+- instruction block: MOVE/LED/AUDIO per command (numbers as constants that keep the written
+  text, times as u32), then ISSUE, NEXT_BLOCK;
+- jump block: COND (its handler is the false exit), the assignments left to right, the
+  evaluations left to right, the true exit; then the false exit. An exit is GOTO to the
+  labelled block, or NEXT_BLOCK for an empty target. A CLASS assignment is FIND, NEXT_CANDIDATE,
+  each test followed by JUMP_IF_FALSE back to NEXT_CANDIDATE, then BIND; a VAR assignment is
+  its function's arguments, CALL_F, SET_VAR; an ATT assignment BOUND, the arguments, CALL_F,
+  SET_ATT; an E evaluation is its arguments, CALL_E, JUMP_IF_FALSE to the false exit; `{TRUE}`
+  is the true exit itself (what follows it is never reached, so it is not compiled:
+  LANGUAGE.md section 2);
+- terminus: END; sensor block: PAYLOAD per text, SENSE, NEXT_BLOCK.
+
+Constants are shared (one per distinct text or number text). Each instruction's source span is
+that of the command, test, assignment or evaluation it comes from; with the source at hand the
+program also carries the line table, so positions survive without the script.
+
+`codegen` expects a script that passed the checks; what it cannot express (a label on two
+blocks, a jump to no label, `?THIS` outside a test, a time that is not a whole u32) raises
+CodegenError rather than produce a program the verifier would refuse.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from decimal import Decimal, InvalidOperation
+from itertools import starmap
+
+from scriptc.bytecode.code import Assembler, Label
+from scriptc.bytecode.encode import encode
+from scriptc.bytecode.program import Action, Block, CodeSpan, Goal, Message, Num, Program
+from scriptc.ir.nodes import (
+    AliasRef,
+    AttAssignment,
+    AttRef,
+    Call,
+    CallTest,
+    ClassAssignment,
+    Condition,
+    FieldRef,
+    FieldTest,
+    InstructionBlock,
+    JumpBlock,
+    Name,
+    Number,
+    NumberValue,
+    RuleMessage,
+    Script,
+    SensorBlock,
+    StringValue,
+    TerminusBlock,
+    TrueEvaluation,
+    VarAssignment,
+    VarRef,
+)
+from scriptc.source import SourceFile, Span
+
+__all__ = ["CodegenError", "codegen", "emit_bytecode"]
+
+_U32 = 0xFFFF_FFFF
+
+
+class CodegenError(ValueError):
+    """The script cannot be compiled to bytecode (it did not pass the checks)."""
+
+
+def emit_bytecode(script: Script, source: SourceFile | None = None) -> bytes:
+    """The `.scb` bytes of a checked script (the `bytecode` back end of `scriptc compile`)."""
+    return encode(codegen(script, source))
+
+
+def codegen(script: Script, source: SourceFile | None = None) -> Program:
+    """The Program of a checked script; with `source`, positions carry lines and columns."""
+    return _Codegen(script, source).program()
+
+
+def _with(sigil: str, text: str) -> str:
+    return text if text.startswith(sigil) else sigil + text
+
+
+def _without(sigil: str, text: str) -> str:
+    return text[len(sigil):] if text.startswith(sigil) else text
+
+
+class _Codegen:
+    def __init__(self, script: Script, source: SourceFile | None) -> None:
+        self.script = script
+        self.source = source
+        self.constants: list = []
+        self.pool: dict[tuple[int, str], int] = {}
+        self.asm = Assembler()
+        self.labels: dict[str, int] = {}
+        self.commands: dict[tuple, bytes] = {}
+
+    # -- constants --------------------------------------------------------------------------
+
+    def text(self, value: str) -> int:
+        key = (1, value)
+        index = self.pool.get(key)
+        if index is None:
+            index = self.pool[key] = len(self.constants)
+            self.constants.append(value)
+        return index
+
+    def number(self, number: Number) -> int:
+        key = (2, number.text)
+        index = self.pool.get(key)
+        if index is None:
+            value = number.value
+            if value is None or not math.isfinite(value):
+                raise CodegenError(f"`{number.text}` is not a finite number")
+            index = self.pool[key] = len(self.constants)
+            self.constants.append(Num(value, number.text))
+        return index
+
+    @staticmethod
+    def whole(number: Number, what: str) -> int:
+        text = number.text
+        if text.isascii() and text.isdigit():
+            value = int(text)
+        else:
+            try:
+                exact = Decimal(text.strip())
+            except InvalidOperation:
+                raise CodegenError(f"{what} `{text}` is not a number") from None
+            if not exact.is_finite() or exact != exact.to_integral_value():
+                raise CodegenError(f"{what} `{text}` is not a whole number")
+            value = int(exact)
+        if not 0 <= value <= _U32:
+            raise CodegenError(f"{what} `{text}` does not fit in 32 bits")
+        return value
+
+    @staticmethod
+    def letter(name: Name, allowed: str, what: str) -> str:
+        text = name.text
+        if len(text) != 1 or text not in allowed:
+            raise CodegenError(f"{what} `{text}` is not one of {', '.join(allowed)}")
+        return text
+
+    # -- the script ---------------------------------------------------------------------------
+
+    def program(self) -> Program:
+        script = self.script
+        for i, (_address, block) in enumerate(script.blocks()):
+            label = block.label
+            if label is not None and label.text:
+                if label.text in self.labels:
+                    raise CodegenError(f"the label `{label.text}` is on two blocks")
+                self.labels[label.text] = i
+        name = self.text(script.name.text)
+        alfa = tuple(self.message(m) for m in script.alfa)
+        omega = tuple(self.message(m) for m in script.omega)
+        goals: list[Goal] = []
+        actions: list[Action] = []
+        blocks: list[Block] = []
+        for goal in script.goals:
+            goals.append(Goal(self.text(goal.id.text), len(goal.actions), Span(*goal.span)))
+            for action in goal.actions:
+                actions.append(Action(len(action.blocks), Span(*action.span)))
+                for block in action.blocks:
+                    blocks.append(self.block(block, len(blocks)))
+        # The source's name comes last, so that the rest of the program (the code above all)
+        # is the same whether or not it was compiled with its source.
+        source = None
+        lines: tuple[int, ...] = ()
+        if self.source is not None:
+            source = self.text(os.path.basename(self.source.path) or self.source.path)
+            lines = tuple(self.source.line_starts)
+        return Program(
+            name=name,
+            source=source,
+            constants=tuple(self.constants),
+            alfa=alfa,
+            omega=omega,
+            goals=tuple(goals),
+            actions=tuple(actions),
+            blocks=tuple(blocks),
+            code=bytes(self.asm.code),
+            lines=lines,
+            spans=tuple(starmap(CodeSpan, self.asm.spans)),
+        )
+
+    def message(self, m: RuleMessage) -> Message:
+        return Message(
+            rulecode=self.whole(m.rulecode, "the rulecode"),
+            id=self.text(m.id.text),
+            intopic=self.text(m.intopic.value),
+            outtopic=self.text(m.outtopic.value),
+            action=self.letter(m.action, "ARDBC", "the rule action"),
+            mutex=self.letter(m.mutex, "LMU", "the mutex command"),
+            span=Span(*m.span),
+        )
+
+    def block(self, block, index: int) -> Block:
+        asm = self.asm
+        start = asm.offset
+        label = block.label
+        label_index = self.text(label.text) if label is not None and label.text else None
+        span = block.span
+        if isinstance(block, InstructionBlock):
+            kind = "I"
+            whole = self.whole
+            # Scripts repeat their commands: an encoded command is replayed from a cache keyed
+            # by its texts (its constants, hence its bytes, are the same every time).
+            cache = self.commands
+            for mv in block.moves:
+                asm.mark(*mv.span)
+                key = ("M", mv.v_x.text, mv.v_y.text, mv.v_theta.text, mv.wait_t.text,
+                       mv.duration.text)
+                encoded = cache.get(key)
+                if encoded is not None:
+                    asm.replay(encoded)
+                    continue
+                at = asm.offset
+                asm.emit("MOVE", self.number(mv.v_x), self.number(mv.v_y),
+                         self.number(mv.v_theta), whole(mv.wait_t, "`wait_t`"),
+                         whole(mv.duration, "`duration`"))
+                cache[key] = asm.since(at)
+            for led in block.leds:
+                asm.mark(*led.span)
+                key = ("L", led.r.text, led.g.text, led.b.text, led.turnas.text,
+                       led.wait_t.text, led.duration.text)
+                encoded = cache.get(key)
+                if encoded is not None:
+                    asm.replay(encoded)
+                    continue
+                turnas = whole(led.turnas, "`turnas`")
+                if turnas > 1:
+                    raise CodegenError(f"`turnas` `{led.turnas.text}` is not 0 or 1")
+                at = asm.offset
+                asm.emit("LED", self.number(led.r), self.number(led.g), self.number(led.b),
+                         turnas, whole(led.wait_t, "`wait_t`"), whole(led.duration, "`duration`"))
+                cache[key] = asm.since(at)
+            for ao in block.audios:
+                asm.mark(*ao.span)
+                key = ("A", ao.track_path.value, ao.wait_t.text, ao.duration.text)
+                encoded = cache.get(key)
+                if encoded is not None:
+                    asm.replay(encoded)
+                    continue
+                at = asm.offset
+                asm.emit("AUDIO", self.text(ao.track_path.value), whole(ao.wait_t, "`wait_t`"),
+                         whole(ao.duration, "`duration`"))
+                cache[key] = asm.since(at)
+            asm.mark(*span)
+            asm.emit("ISSUE")
+            asm.emit("NEXT_BLOCK")
+        elif isinstance(block, JumpBlock):
+            kind = "J"
+            self.condition(block, index)
+        elif isinstance(block, TerminusBlock):
+            kind = "T"
+            asm.mark(*span)
+            asm.emit("END")
+        elif isinstance(block, SensorBlock):
+            kind = "S"
+            for text in block.payload:
+                asm.mark(*text.span)
+                asm.emit("PAYLOAD", self.text(text.value))
+            asm.mark(*span)
+            asm.emit("SENSE")
+            asm.emit("NEXT_BLOCK")
+        else:
+            raise TypeError(f"not a block: {block!r}")
+        return Block(kind, label_index, start, Span(*span))
+
+    # -- conditions ---------------------------------------------------------------------------
+
+    def exit(self, target: Name | None, block: JumpBlock) -> None:
+        """GOTO the labelled block, or NEXT_BLOCK for an empty target."""
+        asm = self.asm
+        if target is None or not target.text:
+            asm.mark(*block.span)
+            asm.emit("NEXT_BLOCK")
+            return
+        index = self.labels.get(target.text)
+        if index is None:
+            raise CodegenError(f"a jump names the label `{target.text}`, which no block "
+                               "carries")
+        asm.mark(*target.span)
+        asm.emit("GOTO", index)
+
+    def condition(self, block: JumpBlock, index: int) -> None:
+        asm = self.asm
+        condition: Condition = block.condition
+        false_exit = Label()
+        asm.mark(*condition.span)
+        asm.emit("COND", false_exit)
+        reached_true = condition.bare_true
+        if not reached_true:
+            for assignment in condition.assignments:
+                self.assignment(assignment, false_exit)
+            for evaluation in condition.evaluations:
+                if isinstance(evaluation, TrueEvaluation):
+                    reached_true = True
+                    break
+                asm.mark(*evaluation.span)
+                self.call(evaluation.call, "CALL_E", False)
+                asm.emit("JUMP_IF_FALSE", false_exit)
+        self.exit(block.true_target, block)
+        asm.place(false_exit)
+        self.exit(block.false_target, block)
+
+    def assignment(self, assignment, false_exit: Label) -> None:
+        asm = self.asm
+        asm.mark(*assignment.span)
+        if isinstance(assignment, ClassAssignment):
+            bind = Label()
+            asm.emit("FIND", self.text(_without("#", assignment.class_name.text)),
+                     self.text(self.alias(assignment.alias, False)),
+                     self.scope(assignment.scope), bind)
+            retry = Label()
+            asm.place(retry)
+            asm.emit("NEXT_CANDIDATE")
+            for test in assignment.tests:
+                asm.mark(*test.span)
+                if isinstance(test, FieldTest):
+                    asm.emit("PUSH_THIS_FIELD", self.text(_without("&", test.field.text)))
+                    self.value(test.value, True)
+                    asm.emit("COMPARE", ord(self.comparison(test.op)))
+                elif isinstance(test, CallTest):
+                    self.call(test.call, "CALL_B", True)
+                else:
+                    raise TypeError(f"not a test: {test!r}")
+                asm.emit("JUMP_IF_FALSE", retry)
+            asm.mark(*assignment.span)
+            asm.place(bind)
+            asm.emit("BIND")
+        elif isinstance(assignment, VarAssignment):
+            self.call(assignment.call, "CALL_F", False)
+            asm.emit("SET_VAR", self.scope(assignment.scope),
+                     self.text(_with("@", assignment.var.name.text)))
+        elif isinstance(assignment, AttAssignment):
+            # The alias is checked before the function is called, as the reference
+            # interpreter does (runtime/evaluate.py): a function that fails is reported.
+            alias = self.text(self.alias(assignment.alias, False))
+            asm.emit("BOUND", alias)
+            self.call(assignment.call, "CALL_F", False)
+            asm.emit("SET_ATT", self.scope(assignment.scope), alias,
+                     self.text(_without("$", assignment.att.text)))
+        else:
+            raise TypeError(f"not an assignment: {assignment!r}")
+
+    @staticmethod
+    def alias(alias: AliasRef, in_test: bool) -> str:
+        if alias.is_this and not in_test:
+            raise CodegenError("`?THIS` names the candidate of a CLASS test and nothing "
+                               "outside one")
+        return _with("?", alias.name.text)
+
+    def scope(self, scope: Name) -> int:
+        return ord(self.letter(scope, "ULT", "the scope"))
+
+    @staticmethod
+    def comparison(op: Name) -> str:
+        text = op.text[2:] if op.text.startswith("OP") else op.text
+        if text not in ("=", "<", ">"):
+            raise CodegenError(f"unknown comparison `{op.text}`")
+        return text
+
+    def call(self, call: Call, opcode: str, in_test: bool) -> None:
+        if len(call.args) > 255:
+            raise CodegenError(f"`{call.name.text}` is called with more than 255 arguments")
+        for arg in call.args:
+            self.value(arg, in_test)
+        self.asm.emit(opcode, self.text(call.name.text), len(call.args))
+
+    def value(self, value, in_test: bool) -> None:
+        asm = self.asm
+        if isinstance(value, NumberValue):
+            asm.emit("PUSH_CONST", self.number(value.number))
+        elif isinstance(value, StringValue):
+            asm.emit("PUSH_CONST", self.text(value.text.value))
+        elif isinstance(value, AliasRef):
+            if value.is_this:
+                self.alias(value, in_test)
+                asm.emit("PUSH_THIS")
+            else:
+                asm.emit("PUSH_ALIAS", self.text(self.alias(value, in_test)))
+        elif isinstance(value, FieldRef):
+            field = self.text(_without("&", value.field.text))
+            if value.alias.is_this:
+                self.alias(value.alias, in_test)
+                asm.emit("PUSH_THIS_FIELD", field)
+            else:
+                asm.emit("PUSH_FIELD", self.text(self.alias(value.alias, in_test)), field)
+        elif isinstance(value, AttRef):
+            # Attributes belong to aliases, not to entities, so `?THIS>$att` reads the
+            # attribute of the alias `?THIS` (which no assignment sets), as the reference
+            # interpreter does.
+            asm.emit("PUSH_ATT", self.text(self.alias(value.alias, in_test)),
+                     self.text(_without("$", value.att.text)))
+        elif isinstance(value, VarRef):
+            asm.emit("PUSH_VAR", self.text(_with("@", value.name.text)))
+        else:
+            raise TypeError(f"not a condition value: {value!r}")
+

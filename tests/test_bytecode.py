@@ -1,0 +1,575 @@
+"""The bytecode: round trips, golden listings, one test per kind of refusal (each says whether
+it expects a malformed or an invalid program), codegen's shapes and the generated docs."""
+
+from __future__ import annotations
+
+import dataclasses
+import struct
+import subprocess
+import sys
+import zlib
+from pathlib import Path
+
+import pytest
+
+from harness import CASES, expect
+from scriptc.bytecode import (
+    FORMAT_VERSION,
+    InvalidError,
+    MalformedError,
+    decode,
+    disassemble,
+    encode,
+    load,
+    verify,
+)
+from scriptc.bytecode.code import Assembler, Label, instructions
+from scriptc.bytecode.opcodes import BY_NAME, MAX_STACK, OPCODES
+from scriptc.bytecode.program import Action, Block, CodeSpan, Goal, Num, Program
+from scriptc.driver import analyze_file, analyze_script, emit
+from scriptc.emit.codegen import CodegenError, codegen
+from scriptc.source import SourceFile, Span
+
+ROOT = Path(__file__).parent.parent
+BYTECODE_CASES = CASES / "bytecode"
+EXAMPLE = ROOT / "examples" / "test_act.script"
+
+
+def compiled(path: Path) -> Program:
+    analysis = analyze_file(path)
+    assert analysis.ok, analysis.diagnostics
+    return codegen(analysis.script, analysis.source)
+
+
+def compile_text(text: str, name: str = "t.script") -> Program:
+    source = SourceFile(name, text)
+    analysis = analyze_script(source)
+    assert analysis.ok, analysis.diagnostics
+    return codegen(analysis.script, source)
+
+
+def reseal(data: bytes | bytearray) -> bytes:
+    """The header's length and CRC made right for a changed body (to reach past them)."""
+    body = bytes(data[16:])
+    return bytes(data[:8]) + struct.pack("<II", len(body), zlib.crc32(body)) + body
+
+
+def code_offset(program: Program, name: str, nth: int = 0) -> int:
+    found = [ins.offset for ins in instructions(program.code) if ins.opcode.name == name]
+    return found[nth]
+
+
+def patched(program: Program, offset: int, data: bytes) -> Program:
+    code = bytearray(program.code)
+    code[offset:offset + len(data)] = data
+    return dataclasses.replace(program, code=bytes(code))
+
+
+def one_block(build, kind: str = "J", constants=("x", Num(1.0, "1"))) -> Program:
+    """A program of one block whose code `build(asm)` writes."""
+    asm = Assembler()
+    build(asm)
+    return Program(name=0, source=None, constants=tuple(constants), alfa=(), omega=(),
+                   goals=(Goal(0, 1, Span(0, 0)),), actions=(Action(1, Span(0, 0)),),
+                   blocks=(Block(kind, None, 0, Span(0, 0)),), code=bytes(asm.code))
+
+
+def invalid(program: Program, match: str) -> None:
+    with pytest.raises(InvalidError, match=match):
+        verify(program)
+    # The same refusal through the file: decoding is fine, verifying is not.
+    with pytest.raises(InvalidError, match=match):
+        load(encode(program))
+
+
+# ---------------------------------------------------------------------------------------------
+# Round trips and golden listings
+
+CASE_SCRIPTS = sorted(BYTECODE_CASES.glob("*.script"))
+ALL_SCRIPTS = [EXAMPLE, *CASE_SCRIPTS, *sorted((CASES / "emit").glob("*.script"))]
+
+
+@pytest.mark.parametrize("path", ALL_SCRIPTS, ids=lambda p: p.name)
+def test_round_trip(path: Path) -> None:
+    program = compiled(path)
+    verify(program)
+    data = encode(program)
+    assert decode(data) == program
+    assert encode(load(data)) == data
+
+
+@pytest.mark.parametrize("path", [EXAMPLE, *CASE_SCRIPTS], ids=lambda p: p.name)
+def test_listing_is_golden(path: Path) -> None:
+    program = load(encode(compiled(path)))
+    expect(BYTECODE_CASES / path.with_suffix(".dis").name, disassemble(program))
+
+
+def test_docs_example_is_the_golden_listing() -> None:
+    docs = (ROOT / "docs" / "bytecode.md").read_text(encoding="utf-8")
+    golden = (BYTECODE_CASES / "conditions.dis").read_text(encoding="utf-8")
+    example = docs.split("`conditions.dis`):\n\n```\n", 1)[1].split("```", 1)[0]
+    assert example and example in golden
+
+
+def test_header_and_sections() -> None:
+    data = encode(compiled(EXAMPLE))
+    magic, version, flags, length, crc = struct.unpack_from("<4sHHII", data)
+    assert (magic, version, flags) == (b"SCB\0", FORMAT_VERSION, 0)
+    assert length == len(data) - 16 and crc == zlib.crc32(data[16:])
+    (count,) = struct.unpack_from("<H", data, 16)
+    entries = [struct.unpack_from("<HII", data, 18 + 10 * i) for i in range(count)]
+    assert [e[0] for e in entries] == [1, 2, 3, 4, 5]
+    assert entries[0][1] == 18 + 10 * count
+    assert entries[-1][1] + entries[-1][2] == len(data)
+
+
+def test_positions_without_the_source() -> None:
+    analysis = analyze_file(EXAMPLE)
+    bare = codegen(analysis.script)
+    full = codegen(analysis.script, analysis.source)
+    assert bare.code == full.code and bare.blocks == full.blocks and bare.spans == full.spans
+    assert bare.lines == () and bare.source is None
+    assert full.position(full.blocks[0].span.start) == (9, 5)
+    assert bare.position(0) is None
+    assert "@" in disassemble(load(encode(bare))).splitlines()[4]
+    # The driver's back end: with the source, the file carries lines.
+    assert decode(emit(analysis.script, "bytecode", analysis.source)) == full
+    assert decode(emit(analysis.script, "bytecode")) == bare
+
+
+def test_program_lookups() -> None:
+    program = load(encode(compiled(BYTECODE_CASES / "conditions.script")))
+    assert program.activity == "greet"
+    assert program.block_path(4) == "goal1/act0/blk0"
+    assert program.block_index(1, 0, 0) == 4 and program.block_index(5, 0, 0) is None
+    jump = program.blocks[1]
+    assert program.block_at(jump.code + 3) == 1
+    span = program.span_at(jump.code)
+    assert span is not None and program.position(span.start) == (11, 11)
+
+
+# ---------------------------------------------------------------------------------------------
+# Codegen
+
+
+def test_condition_shapes() -> None:
+    program = compile_text(
+        "[a]\n[goal:g]\n[action]\n"
+        "[b#x#blk_jump: CND({VAR @v U F: now()} ! {TRUE} {E: gt(1, 2)}) TRJMP() FLSJMP(z)]\n"
+        "[b#y#blk_jump: CND({TRUE}) TRJMP(z) FLSJMP()]\n"
+        "[b#z#blk_terminus]\n")
+    names = [ins.opcode.name for ins in instructions(program.code, 0, program.block_end(0))]
+    # TRUE is the true exit: the E evaluation after it is not compiled.
+    assert names == ["COND", "CALL_F", "SET_VAR", "NEXT_BLOCK", "GOTO"]
+    names = [ins.opcode.name for ins in instructions(program.code, program.blocks[1].code,
+                                                     program.block_end(1))]
+    assert names == ["COND", "GOTO", "NEXT_BLOCK"]
+
+
+def test_constants_are_shared_and_numbers_keep_their_text() -> None:
+    program = compile_text('[a]\n[goal:g]\n[action]\n[b##blk_inst: MV("+0.50, 0, .5, 0, 1000", '
+                           '"0, 0, 0, 0, 10") LD() AO()]\n[b##blk_terminus]\n')
+    numbers = [c for c in program.constants if isinstance(c, Num)]
+    assert numbers == [Num(0.5, "+0.50"), Num(0.0, "0"), Num(0.5, ".5")]
+    move = next(instructions(program.code))
+    assert move.operands[3:] == (0, 1000)
+
+
+def test_codegen_refuses_what_the_checks_refuse() -> None:
+    source = SourceFile("t.script", "[a]\n[goal:g]\n[action]\n"
+                                    "[b##blk_jump: CND(! {E: gt(?THIS, 1)}) TRJMP() FLSJMP()]\n")
+    analysis = analyze_script(source)
+    assert not analysis.ok
+    with pytest.raises(CodegenError, match="THIS"):
+        codegen(analysis.script, source)
+    source = SourceFile("t.script", "[a]\n[goal:g]\n[action]\n"
+                                    "[b##blk_jump: CND(! {TRUE}) TRJMP(nowhere) FLSJMP()]\n")
+    with pytest.raises(CodegenError, match="nowhere"):
+        codegen(analyze_script(source).script, source)
+
+
+def test_assembler_patches_forward_labels_and_compacts_spans() -> None:
+    asm = Assembler()
+    label = Label()
+    asm.mark(0, 1)
+    asm.mark(5, 6)  # replaces the entry above: nothing was emitted under it
+    asm.emit("COND", label)
+    asm.mark(5, 6)
+    asm.emit("NEXT_BLOCK")
+    asm.place(label)
+    asm.emit("NEXT_BLOCK")
+    assert asm.spans == [(0, 5, 6)]
+    assert int.from_bytes(asm.code[1:5], "little") == 6
+
+
+# ---------------------------------------------------------------------------------------------
+# Refused: malformed (decode)
+
+
+@pytest.fixture(scope="module")
+def good() -> bytes:
+    return encode(compiled(BYTECODE_CASES / "conditions.script"))
+
+
+def test_bad_magic(good: bytes) -> None:
+    with pytest.raises(MalformedError, match="bad magic number") as info:
+        decode(b"SCX\0" + good[4:])
+    assert info.value.offset == 0
+    with pytest.raises(MalformedError, match="looks like text"):
+        decode(EXAMPLE.read_bytes())
+    for short in (b"SCX", b"\x7fELF"):
+        with pytest.raises(MalformedError, match="bad magic number"):
+            decode(short)
+    with pytest.raises(MalformedError, match="empty"):
+        decode(b"")
+    with pytest.raises(MalformedError, match="truncated"):
+        decode(b"SC")
+
+
+def test_wrong_version(good: bytes) -> None:
+    data = good[:4] + struct.pack("<H", FORMAT_VERSION + 1) + good[6:]
+    with pytest.raises(MalformedError, match=r"unsupported format version 2 .*compile the "
+                                             r"script again"):
+        decode(data)
+
+
+def test_flags_are_reserved(good: bytes) -> None:
+    with pytest.raises(MalformedError, match="unknown flags"):
+        decode(good[:6] + b"\x01\x00" + good[8:])
+
+
+def test_bad_checksum(good: bytes) -> None:
+    data = bytearray(good)
+    data[len(data) // 2] ^= 0x10
+    with pytest.raises(MalformedError, match="checksum mismatch"):
+        decode(bytes(data))
+
+
+@pytest.mark.parametrize("keep", [0, 3, 15, 16, 17, 40, -1])
+def test_truncated(good: bytes, keep: int) -> None:
+    with pytest.raises(MalformedError, match="truncated|empty"):
+        decode(good[:keep] if keep >= 0 else good[:keep])
+
+
+def test_bytes_after_the_end(good: bytes) -> None:
+    with pytest.raises(MalformedError, match="after the end"):
+        decode(good + b"\0")
+
+
+def test_sections_must_fill_the_file(good: bytes) -> None:
+    count_too_big = bytearray(good)
+    count_too_big[16:18] = struct.pack("<H", 6)
+    with pytest.raises(MalformedError, match="section table has 6 entries"):
+        decode(reseal(count_too_big))
+    # An extra byte inside the constants section: its records no longer fill it.
+    data = bytearray(good)
+    entry = 18
+    sid, offset, length = struct.unpack_from("<HII", data, entry)
+    data[entry:entry + 10] = struct.pack("<HII", sid, offset, length + 1)
+    for i in range(1, 5):
+        at = entry + 10 * i
+        s, o, n = struct.unpack_from("<HII", data, at)
+        data[at:at + 10] = struct.pack("<HII", s, o + 1, n)
+    data[offset + length:offset + length] = b"\0"
+    with pytest.raises(MalformedError, match="after its last record"):
+        decode(reseal(data))
+
+
+def test_absurd_counts_are_refused_before_allocating(good: bytes) -> None:
+    data = bytearray(good)
+    _sid, offset, _length = struct.unpack_from("<HII", data, 18)
+    data[offset:offset + 4] = struct.pack("<I", 0xFFFF_FFFF)
+    with pytest.raises(MalformedError, match="announces 4294967295 constants"):
+        decode(reseal(data))
+
+
+def test_text_must_be_utf8() -> None:
+    program = one_block(lambda asm: asm.emit("END"), "T", constants=("ab",))
+    data = bytearray(encode(program))
+    at = bytes(data).index(b"ab")
+    data[at] = 0xFF
+    with pytest.raises(MalformedError, match="not UTF-8"):
+        decode(reseal(data))
+
+
+# ---------------------------------------------------------------------------------------------
+# Refused: invalid (verify)
+
+
+@pytest.fixture(scope="module")
+def program() -> Program:
+    return compiled(BYTECODE_CASES / "conditions.script")
+
+
+def test_out_of_range_jump(program: Program) -> None:
+    at = code_offset(program, "JUMP_IF_FALSE")
+    invalid(patched(program, at + 1, struct.pack("<I", 999_999)), "outside its block")
+    # Into the middle of an instruction of the same block.
+    at = code_offset(program, "JUMP_IF_FALSE", 2)
+    target = code_offset(program, "PUSH_ATT") + 1
+    invalid(patched(program, at + 1, struct.pack("<I", target)),
+            "not the start of an instruction")
+
+
+def test_backward_jump_only_to_the_search(program: Program) -> None:
+    at = code_offset(program, "JUMP_IF_FALSE", 2)  # after the E call: forward to the exit
+    cond = code_offset(program, "COND", 0)
+    invalid(patched(program, at + 1, struct.pack("<I", cond)), "backward jump")
+
+
+def test_bad_constant_index(program: Program) -> None:
+    at = code_offset(program, "PUSH_CONST")
+    invalid(patched(program, at + 1, struct.pack("<I", 70_000)),
+            "constant index 70000 out of range")
+    move = code_offset(program, "MOVE")
+    text = program.constants.index("Silence")
+    invalid(patched(program, move + 1, struct.pack("<I", text)), "is a text, not a number")
+    invalid(dataclasses.replace(program, name=len(program.constants)), "activity name")
+
+
+def test_unknown_opcode(program: Program) -> None:
+    invalid(patched(program, code_offset(program, "COMPARE"), b"\xee"), "unknown opcode 0xee")
+
+
+def test_bad_block_operand(program: Program) -> None:
+    at = code_offset(program, "GOTO")
+    invalid(patched(program, at + 1, struct.pack("<I", 99)), "block 99 out of range")
+
+
+def test_bad_letters(program: Program) -> None:
+    at = code_offset(program, "FIND")
+    invalid(patched(program, at + 9, b"X"), "'X' is not a scope letter")
+    at = code_offset(program, "COMPARE")
+    invalid(patched(program, at + 1, b"!"), "not a cmp letter")
+    message = dataclasses.replace(program.alfa[0], mutex="Q")
+    invalid(dataclasses.replace(program, alfa=(message,)), "unknown mutex command")
+
+
+def test_stack_underflow() -> None:
+    def build(asm: Assembler) -> None:
+        fail = Label()
+        asm.emit("COND", fail)
+        asm.emit("COMPARE", ord("="))
+        asm.place(fail)
+        asm.emit("NEXT_BLOCK")
+
+    invalid(one_block(build), "stack underflow")
+
+
+def test_stack_overflow() -> None:
+    def build(asm: Assembler) -> None:
+        fail = Label()
+        asm.emit("COND", fail)
+        for _ in range(MAX_STACK + 1):
+            asm.emit("PUSH_CONST", 0)
+        asm.emit("CALL_E", 0, 255)
+        asm.place(fail)
+        asm.emit("NEXT_BLOCK")
+
+    invalid(one_block(build), "stack overflow")
+
+
+def test_stack_types() -> None:
+    def build(asm: Assembler) -> None:
+        fail = Label()
+        asm.emit("COND", fail)
+        asm.emit("PUSH_CONST", 0)
+        asm.emit("JUMP_IF_FALSE", fail)
+        asm.place(fail)
+        asm.emit("NEXT_BLOCK")
+
+    invalid(one_block(build), r"JUMP_IF_FALSE pops \[b\], the stack holds \[v\]")
+
+
+def test_values_left_at_an_exit() -> None:
+    def build(asm: Assembler) -> None:
+        fail = Label()
+        asm.emit("COND", fail)
+        asm.emit("PUSH_CONST", 0)
+        asm.emit("NEXT_BLOCK")
+        asm.place(fail)
+        asm.emit("NEXT_BLOCK")
+
+    invalid(one_block(build), "NEXT_BLOCK needs an empty stack")
+
+
+def test_this_needs_a_candidate() -> None:
+    def build(asm: Assembler) -> None:
+        fail = Label()
+        asm.emit("COND", fail)
+        asm.emit("PUSH_THIS")
+        asm.place(fail)
+        asm.emit("NEXT_BLOCK")
+
+    invalid(one_block(build), "PUSH_THIS needs a candidate in THIS")
+
+
+def test_search_must_end_before_an_exit() -> None:
+    def build(asm: Assembler) -> None:
+        fail, bind = Label(), Label()
+        asm.emit("COND", fail)
+        asm.emit("FIND", 0, 0, ord("U"), bind)
+        asm.emit("NEXT_CANDIDATE")
+        asm.emit("NEXT_BLOCK")
+        asm.place(bind)
+        asm.emit("BIND")
+        asm.place(fail)
+        asm.emit("NEXT_BLOCK")
+
+    invalid(one_block(build), "NEXT_BLOCK needs no search running")
+
+
+def test_find_needs_next_candidate_and_its_bind() -> None:
+    def build(asm: Assembler) -> None:
+        fail, bind = Label(), Label()
+        asm.emit("COND", fail)
+        asm.emit("FIND", 0, 0, ord("U"), bind)
+        asm.place(bind)
+        asm.emit("BIND")
+        asm.place(fail)
+        asm.emit("NEXT_BLOCK")
+
+    invalid(one_block(build), "FIND must be followed by NEXT_CANDIDATE")
+
+    def wrong_bind(asm: Assembler) -> None:
+        fail = Label()
+        asm.emit("COND", fail)
+        asm.emit("FIND", 0, 0, ord("U"), fail)
+        asm.emit("NEXT_CANDIDATE")
+        asm.emit("BIND")
+        asm.place(fail)
+        asm.emit("NEXT_BLOCK")
+
+    invalid(one_block(wrong_bind), "not a BIND after it")
+
+
+def test_searches_hold_tests_only() -> None:
+    def forward(asm: Assembler) -> None:
+        fail, bind = Label(), Label()
+        asm.emit("COND", fail)
+        asm.emit("FIND", 0, 0, ord("U"), bind)
+        asm.emit("NEXT_CANDIDATE")
+        asm.emit("PUSH_THIS")
+        asm.emit("PUSH_CONST", 0)
+        asm.emit("COMPARE", ord("="))
+        asm.emit("JUMP_IF_FALSE", bind)
+        asm.place(bind)
+        asm.emit("BIND")
+        asm.place(fail)
+        asm.emit("NEXT_BLOCK")
+
+    invalid(one_block(forward), "inside a search, a jump may only return")
+
+    def assigns(asm: Assembler) -> None:
+        fail, bind = Label(), Label()
+        asm.emit("COND", fail)
+        asm.emit("FIND", 0, 0, ord("U"), bind)
+        asm.emit("NEXT_CANDIDATE")
+        asm.emit("PUSH_CONST", 0)
+        asm.emit("SET_VAR", ord("U"), 0)
+        asm.place(bind)
+        asm.emit("BIND")
+        asm.place(fail)
+        asm.emit("NEXT_BLOCK")
+
+    invalid(one_block(assigns), "SET_VAR needs no search running")
+
+
+def test_paths_must_agree() -> None:
+    def build(asm: Assembler) -> None:
+        fail, join = Label(), Label()
+        asm.emit("COND", fail)
+        asm.emit("PUSH_CONST", 0)
+        asm.emit("PUSH_CONST", 0)
+        asm.emit("COMPARE", ord("="))
+        asm.emit("JUMP_IF_FALSE", join)
+        asm.emit("PUSH_CONST", 0)
+        asm.place(join)
+        asm.emit("SET_VAR", ord("U"), 0)
+        asm.place(fail)
+        asm.emit("NEXT_BLOCK")
+
+    invalid(one_block(build), "paths meet")
+
+
+def test_running_off_the_block() -> None:
+    def build(asm: Assembler) -> None:
+        fail = Label()
+        asm.emit("COND", fail)
+        asm.emit("NEXT_BLOCK")
+        asm.place(fail)
+        asm.emit("PUSH_CONST", 0)
+
+    invalid(one_block(build), "run past the end")
+
+
+def test_block_shapes() -> None:
+    invalid(one_block(lambda asm: asm.emit("NEXT_BLOCK"), "I"),
+            "an instruction block must end with ISSUE NEXT_BLOCK")
+    invalid(one_block(lambda asm: asm.emit("COND", 5), "I"),
+            "cannot appear in an instruction block")
+    invalid(one_block(lambda asm: asm.emit("NEXT_BLOCK")), "must start with COND")
+    invalid(one_block(lambda asm: (asm.emit("SENSE"), asm.emit("PAYLOAD", 0),
+                                   asm.emit("NEXT_BLOCK")), "S"), "must end with SENSE")
+
+
+def test_inconsistent_tables(program: Program) -> None:
+    goals = (dataclasses.replace(program.goals[0], actions=5), *program.goals[1:])
+    invalid(dataclasses.replace(program, goals=goals), "the goals own")
+    blocks = list(program.blocks)
+    blocks[2] = dataclasses.replace(blocks[2], code=blocks[1].code)
+    invalid(dataclasses.replace(program, blocks=tuple(blocks)), "not after block")
+    blocks = list(program.blocks)
+    blocks[0] = dataclasses.replace(blocks[0], kind="Z")
+    invalid(dataclasses.replace(program, blocks=tuple(blocks)), "unknown block kind")
+    spans = list(program.spans)
+    spans[1] = CodeSpan(spans[1].code + 1, spans[1].start, spans[1].end)
+    invalid(dataclasses.replace(program, spans=tuple(spans)), "not the start of an instruction")
+    invalid(dataclasses.replace(program, lines=(0, 5, 5)), "line table")
+
+
+def test_number_constants_must_be_finite_and_match_their_text() -> None:
+    end = lambda asm: asm.emit("END")  # noqa: E731
+    invalid(one_block(end, "T", constants=("a", Num(2.0, "1"))), "does not match its text")
+    invalid(one_block(end, "T", constants=("a", Num(float("inf"), "inf"))), "not a finite")
+
+
+def test_error_messages_say_where() -> None:
+    program = compiled(BYTECODE_CASES / "conditions.script")
+    at = code_offset(program, "COMPARE")
+    with pytest.raises(InvalidError) as info:
+        verify(patched(program, at, b"\xee"))
+    assert info.value.offset == at
+    assert str(info.value) == (f"invalid bytecode: goal0/act0/blk1: unknown opcode 0xee "
+                               f"(at code offset {at})")
+
+
+# ---------------------------------------------------------------------------------------------
+# The table and the docs
+
+
+def test_every_opcode_is_documented_and_sized() -> None:
+    for op in OPCODES:
+        assert op.doc and op.size == 1 + sum(o.kind.size for o in op.operands)
+        for name in (o.name for o in op.operands):
+            assert op.listing == "" or "{" + name + "}" in op.listing, (op.name, name)
+    assert BY_NAME["MOVE"].size == 21
+
+
+def test_docs_are_current() -> None:
+    from scriptc.bytecode.docs import GENERATED, regions, update
+
+    text = (ROOT / "docs" / "bytecode.md").read_text(encoding="utf-8")
+    assert regions(text) == set(GENERATED)
+    assert update(text) == text, (
+        "docs/bytecode.md is stale: python -m scriptc.bytecode.docs docs/bytecode.md")
+
+
+def test_bytecode_does_not_import_the_ir() -> None:
+    probe = ("import sys, scriptc.bytecode, scriptc.bytecode.docs\n"
+             "bad = [m for m in sys.modules if m.startswith(('scriptc.ir', 'scriptc.syntax', "
+             "'scriptc.emit', 'lark'))]\n"
+             "assert not bad, bad\n")
+    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                          timeout=60)
+    assert done.returncode == 0, done.stderr
