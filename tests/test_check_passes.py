@@ -123,7 +123,7 @@ def test_duplicate_label_points_at_the_first_definition():
 
 def test_unknown_label_suggests_the_closest_and_silences_reachability():
     text = blocks(
-        "[b#start#blk_inst: MV() LD() AO()]",
+        '[b#start#blk_inst: MV() LD() AO("Silence, 0, 100")]',
         "[b##blk_jump: CND(! {TRUE}) TRJMP(strat) FLSJMP()]",
         "[b##blk_inst: MV() LD() AO()]",
         "[b##blk_terminus]",
@@ -218,7 +218,7 @@ def test_whole_time_fixes():
 
 def test_range_bounds_are_inclusive():
     text = ('[act]\n[alfa:4294967295,r,"","",A,U]\n[omega:0,r,"","",R,L]\n[goal:g]\n[action]\n'
-            '[b##blk_inst: MV("-1, 0, 0, 0, 2147483647") LD("0, 1, 0.5, 0, 2147483647, 0") '
+            '[b##blk_inst: MV("-0.5, 0, 0, 0, 2147483647") LD("0, 1, 0.5, 0, 2147483647, 0") '
             'AO("Silence, 0, 2147483647")]\n[b##blk_terminus]\n')
     assert codes(text) == []
 
