@@ -329,7 +329,7 @@ def test_inserted_lines_keep_crlf_line_breaks():
 
 def test_jump_whose_branches_both_leave_is_named():
     text = blocks(
-        "[b#top#blk_inst: MV() LD() AO()]",
+        '[b#top#blk_inst: MV() LD() AO("Silence, 0, 100")]',
         "[b##blk_jump: CND(! {E: gt(1, 2)}) TRJMP(end) FLSJMP(top)]",
         "[b##blk_inst: MV() LD() AO()]",
         "[b#end#blk_terminus]",
