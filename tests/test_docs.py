@@ -27,4 +27,4 @@ def test_every_code_has_a_complete_explanation() -> None:
 
 def test_explanation_examples_are_fenced_scriptc() -> None:
     for code in all_codes():
-        assert re.search(r"```(scriptc|json)\n", code.explanation), code.code
+        assert re.search(r"```(scriptc|json|toml)\n", code.explanation), code.code

@@ -1,6 +1,7 @@
-"""From files to results: reading sources safely, running the front end and the checks, and
-(for the CLI) finding script files. The CLI and the language server call this module; it
-holds no presentation.
+"""From files to results: reading sources safely, running the front end and the checks (with
+the script's suppression comments), and, for the CLI, finding script files and linting many
+of them with their configuration, the cache, worker processes and fixes (`lint_paths`). The
+CLI and the language server call this module; it holds no presentation.
 """
 
 from __future__ import annotations
@@ -8,6 +9,7 @@ from __future__ import annotations
 import os
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Any
 
 from scriptc.diagnostics.model import Diagnostic, has_errors
 from scriptc.gcpause import gc_paused
@@ -19,11 +21,13 @@ from scriptc.source import SourceFile
 @dataclass
 class Analysis:
     """A source, the script read from it (None when it could not be read at all) and every
-    diagnostic about it, sorted by position."""
+    diagnostic about it, sorted by position. `suppressed` holds what the script's suppression
+    comments hid (`scriptc.suppress`; never an error)."""
 
     source: SourceFile
     script: Script | None
     diagnostics: list[Diagnostic] = field(default_factory=list)
+    suppressed: list[Diagnostic] = field(default_factory=list)
 
     @property
     def ok(self) -> bool:
@@ -31,17 +35,25 @@ class Analysis:
 
 
 def _finish(source: SourceFile, script: Script | None, front: list[Diagnostic],
-            functions: FunctionRegistry) -> Analysis:
+            functions: FunctionRegistry, kind: str = "json") -> Analysis:
     diagnostics = list(front)
     # Semantic checks run on a script whose front end reported no error: a broken item would
     # otherwise cascade into reports about labels and flow that are not the user's mistake
     # (docs/language.md, "Error recovery").
-    if script is not None and not has_errors(front):
+    checked = script is not None and not has_errors(front)
+    if checked:
         from scriptc.check import check_script
 
         diagnostics.extend(check_script(script, source, functions=functions))
     diagnostics.sort(key=Diagnostic.sort_key)
-    return Analysis(source, script, diagnostics)
+    suppressed: list[Diagnostic] = []
+    # Suppression comments are part of the script (JSON has no comments); one substring
+    # search when there are none.
+    if kind == "script" and "scriptc:" in source.text:
+        from scriptc.suppress import apply_suppressions
+
+        diagnostics, suppressed = apply_suppressions(source, diagnostics, checked=checked)
+    return Analysis(source, script, diagnostics, suppressed)
 
 
 def analyze_script(source: SourceFile, functions: FunctionRegistry = STANDARD) -> Analysis:
@@ -50,7 +62,7 @@ def analyze_script(source: SourceFile, functions: FunctionRegistry = STANDARD) -
 
     with gc_paused():
         script, front = lower_script(source)
-        return _finish(source, script, front, functions)
+        return _finish(source, script, front, functions, "script")
 
 
 def analyze_json(source: SourceFile, functions: FunctionRegistry = STANDARD) -> Analysis:
@@ -226,7 +238,8 @@ def analyze_paths(paths: list[str] | tuple[str, ...], kind: str = "script", *,
     """Analyse every file named by `paths`: for script syntax, folders are searched for
     `*.script` files (`discover_scripts`); thesis JSON is read from the files named only.
     `-` reads `stdin()`. A path that does not exist raises ReadError before anything is read;
-    a file that cannot be read is recorded in `Run.problems` and the others go on."""
+    a file that cannot be read is recorded in `Run.problems` and the others go on. Without
+    configuration, cache or workers: `lint_paths` is what the CLI runs."""
     files = discover_scripts(paths, search_folders=kind == "script")
     run = Run()
     for path in files:
@@ -246,7 +259,7 @@ def analyze_paths(paths: list[str] | tuple[str, ...], kind: str = "script", *,
 # Back ends and output files
 
 # The back ends of `scriptc compile --emit`: name -> (suffix of the default output file,
-# module and function turning a checked Script into the output text). Bytecode joins here.
+# module and function turning a checked Script into the output: text, or bytes for bytecode).
 EMITTERS: dict[str, tuple[str, str, str]] = {
     "json": (".json", "scriptc.emit.json", "emit_json"),
     "bytecode": (".scb", "scriptc.emit.codegen", "emit_bytecode"),
@@ -343,3 +356,389 @@ def suggest_codes(query: str, limit: int = 3) -> list[str]:
     hits += [names[n] for n in difflib.get_close_matches(query.lower(), list(names), n=limit,
                                                          cutoff=0.6)]
     return list(dict.fromkeys(hits))[:limit]
+
+
+# ---------------------------------------------------------------------------------------------
+# Linting a repository: configuration, suppressions, the cache, workers, fixes
+#
+# `lint_paths` is what `scriptc lint` and `scriptc check` run. Per file: find its
+# configuration (`scriptc.config.Resolver`), look its result up in the cache (content +
+# configuration + scriptc), analyse the misses (in worker processes when there is enough work
+# to pay for them), then apply the configuration's policy (selection, per-file ignores,
+# severities). The cache holds what the analysis found, before the policy, so the policy is
+# always today's.
+
+
+# The classes of this section are plain classes, not dataclasses: `scriptc lint` imports
+# this module on every run, and generating dataclass methods costs milliseconds of it.
+
+
+class LintOptions:
+    """How `lint_paths` runs. `cache_dir` None: `scriptc.cache.default_cache_dir()`; `jobs`
+    None: one worker per available core; `progress(done, total)` is called as files finish."""
+
+    def __init__(self, cache: bool = True, cache_dir: str | None = None, jobs: int | None = None,
+                 fix: bool = False, config: str | None = None, isolated: bool = False,
+                 force_exclude: bool = False,
+                 progress: Callable[[int, int], None] | None = None) -> None:
+        self.cache = cache
+        self.cache_dir = cache_dir
+        self.jobs = jobs
+        self.fix = fix
+        self.config = config
+        self.isolated = isolated
+        self.force_exclude = force_exclude
+        self.progress = progress
+
+
+class FileReport:
+    """What linting one file reports (renderers read `source` and `diagnostics`); `path` is
+    the file as named (`-` for stdin), `cached` whether the result came from the cache,
+    `fixed` how many fixes `--fix` applied to it."""
+
+    __slots__ = ("source", "diagnostics", "path", "cached", "fixed")
+
+    def __init__(self, source: SourceFile, diagnostics: list[Diagnostic], path: str = "",
+                 cached: bool = False, fixed: int = 0) -> None:
+        self.source = source
+        self.diagnostics = diagnostics
+        self.path = path
+        self.cached = cached
+        self.fixed = fixed
+
+    def __repr__(self) -> str:
+        return f"FileReport({self.source.path!r}, {len(self.diagnostics)} diagnostics)"
+
+    @property
+    def fixable(self) -> int:
+        return sum(1 for d in self.diagnostics if d.fix is not None and d.fix.safe)
+
+
+class LintRun(Run):
+    """`Run` with the configurations' own reports first in `results`, and counts: files
+    read, results from the cache, fixes applied and the files they changed."""
+
+    def __init__(self, files: int = 0) -> None:
+        super().__init__()
+        self.files = files
+        self.cached = 0
+        self.fixed = 0
+        self.fixed_files = 0
+
+    @property
+    def fixable(self) -> int:
+        return sum(r.fixable for r in self.results if isinstance(r, FileReport))
+
+
+def available_cores() -> int:
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except (AttributeError, OSError):
+        return max(1, os.cpu_count() or 1)
+
+
+def discover(paths: list[str] | tuple[str, ...], kind: str = "script", *,
+             resolver=None, force_exclude: bool = False) -> list[str]:
+    """The files `scriptc lint PATH...` reads, in order: as `discover_scripts`, and folders
+    skip what .gitignore files ignore and what the configuration excludes
+    (`scriptc.files`). With `force_exclude` the configuration's `exclude` applies to files
+    named on the command line too (for pre-commit, which names every changed file)."""
+    missing = [p for p in paths if p != "-" and not os.path.lexists(p)]
+    if missing:
+        raise ReadError(f"`{missing[0]}` does not exist")
+    from scriptc.files import Walker
+
+    walker = Walker(resolver.for_folder if resolver is not None else None)
+    found: list[str] = []
+    seen: set[str] = set()
+    for path in paths:
+        if kind == "script" and path != "-" and os.path.isdir(path):
+            inner = walker.walk(path)
+        elif force_exclude and path != "-" and walker.excluded(os.path.abspath(path), False):
+            inner = []
+        else:
+            inner = [path]
+        for p in inner:
+            key = p if p == "-" else os.path.realpath(p)
+            if key not in seen:
+                seen.add(key)
+                found.append(p)
+    return found
+
+
+# Worker processes: the registry of each set of user functions is built once per worker.
+_registries: dict[tuple, FunctionRegistry] = {}
+
+
+def _registry(functions: tuple) -> FunctionRegistry:
+    if not functions:
+        return STANDARD
+    registry = _registries.get(functions)
+    if registry is None:
+        registry = _registries[functions] = STANDARD.extended(functions)
+    return registry
+
+
+def _analyze_task(task: tuple[str, bytes, str, tuple]) -> list[Diagnostic]:
+    """Analyse one file (in a worker or in this process): its diagnostics after its own
+    suppressions, before the configuration's policy."""
+    name, data, kind, functions = task
+    return analyze_bytes(name, data, kind, _registry(functions)).diagnostics
+
+
+def _analyze_chunk(tasks: list[tuple[str, bytes, str, tuple]]) -> list[list[Diagnostic]]:
+    return [_analyze_task(task) for task in tasks]
+
+
+# Below this much text, starting worker processes costs more than it saves (the front end
+# reads about 0.6 MB/s on one core).
+PARALLEL_MIN_BYTES = 100_000
+
+
+def _analyze_all(tasks: list[tuple[str, bytes, str, tuple]], jobs: int,
+                 done: Callable[[int, list[Diagnostic]], None]) -> None:
+    """Analyse every task, calling `done(index, diagnostics)` as each finishes: in worker
+    processes when there are several tasks and enough text, else here."""
+    total = sum(len(t[1]) for t in tasks)
+    if jobs > 1 and len(tasks) > 1 and total >= PARALLEL_MIN_BYTES:
+        try:
+            _analyze_parallel(tasks, jobs, done)
+            return
+        except _PoolFailed:
+            pass  # no worker processes here (a sandbox): one process does it all
+    for i, task in enumerate(tasks):
+        done(i, _analyze_task(task))
+
+
+class _PoolFailed(Exception):
+    pass
+
+
+def _analyze_parallel(tasks: list[tuple[str, bytes, str, tuple]], jobs: int,
+                      done: Callable[[int, list[Diagnostic]], None]) -> None:
+    import multiprocessing
+    from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+    from concurrent.futures.process import BrokenProcessPool
+
+    # `fork` where the platform has it: the workers start with scriptc already imported.
+    methods = multiprocessing.get_all_start_methods()
+    context = multiprocessing.get_context("fork" if "fork" in methods else None)
+    # Chunks of about 64 KB of text: few enough messages, small enough to balance the load
+    # and to move the progress bar.
+    chunks: list[list[int]] = [[]]
+    size = 0
+    for i, task in enumerate(tasks):
+        if size >= 64_000:
+            chunks.append([])
+            size = 0
+        chunks[-1].append(i)
+        size += len(task[1])
+    finished: set[int] = set()
+    try:
+        pool = ProcessPoolExecutor(max_workers=min(jobs, len(chunks)), mp_context=context)
+    except (OSError, ValueError, NotImplementedError) as exc:
+        raise _PoolFailed from exc
+    with pool:
+        try:
+            pending = {pool.submit(_analyze_chunk, [tasks[i] for i in chunk]): chunk
+                       for chunk in chunks}
+            while pending:
+                ready, _ = wait(pending, return_when=FIRST_COMPLETED)
+                for future in ready:
+                    chunk = pending.pop(future)
+                    for i, diagnostics in zip(chunk, future.result()):
+                        finished.add(i)
+                        done(i, diagnostics)
+        except BrokenProcessPool:
+            # A worker died (killed, out of memory): finish the rest here.
+            for i, task in enumerate(tasks):
+                if i not in finished:
+                    done(i, _analyze_task(task))
+        except BaseException:
+            pool.shutdown(wait=False, cancel_futures=True)
+            raise
+
+
+def apply_fixes(text: str, fixes: list) -> tuple[str, int]:
+    """`text` with as many of `fixes` applied as do not overlap (in order: a fix whose edits
+    touch an edit already taken waits for the next round), and how many were applied."""
+    taken: list[tuple[int, int, str]] = []
+
+    def clash(a: tuple[int, int], b: tuple[int, int]) -> bool:
+        if a[0] == b[0]:
+            return True  # two edits at one place: their order would be a guess
+        if a[0] < b[1] and b[0] < a[1]:
+            return True
+        # An insertion strictly inside a replacement.
+        return (a[0] == a[1] and b[0] < a[0] < b[1]) or (b[0] == b[1] and a[0] < b[0] < a[1])
+
+    applied = 0
+    for fix in fixes:
+        edits = sorted((e.span.start, e.span.end, e.new_text) for e in fix.edits)
+        if any(clash(edits[i][:2], edits[j][:2])
+               for i in range(len(edits)) for j in range(i + 1, len(edits))):
+            continue
+        if any(clash(e[:2], t[:2]) for e in edits for t in taken):
+            continue
+        taken.extend(edits)
+        applied += 1
+    for start, end, new in sorted(taken, reverse=True):
+        text = text[:start] + new + text[end:]
+    return text, applied
+
+
+MAX_FIX_ROUNDS = 10
+
+
+def lint_paths(paths: list[str] | tuple[str, ...], kind: str = "script", *,
+               stdin: Callable[[], bytes] | None = None, stdin_name: str = "<stdin>",
+               options: LintOptions | None = None) -> LintRun:
+    """Lint (`kind="script"`) or check (`kind="json"`) every file named by `paths`, with the
+    configuration of each file, its cached result when it has one, worker processes for the
+    rest and, with `options.fix`, the safe fixes applied (files rewritten atomically). A path
+    that does not exist raises ReadError before anything is read; a file that cannot be read
+    is recorded in `problems`, and the others go on."""
+    from scriptc.config import Resolver
+
+    options = options or LintOptions()
+    cache = None
+    if options.cache:
+        from scriptc.cache import Cache, default_cache_dir
+
+        # The project's root is that of the first path's configuration (else here).
+        first = next((p for p in paths if p != "-"), ".")
+        cache = Cache(options.cache_dir or default_cache_dir(first))
+    resolver = Resolver(cache, config=options.config, isolated=options.isolated)
+    files = discover(paths, kind, resolver=resolver, force_exclude=options.force_exclude)
+    run = LintRun(files=len(files))
+
+    # Read every file, and look each up in the cache.
+    entries: list[tuple[str, str, bytes, Any, str | None]] = []  # path, name, data, settings, key
+    for path in files:
+        try:
+            if path == "-":
+                if stdin is None:
+                    raise ReadError("reading stdin is not supported here")
+                data, name = stdin(), stdin_name
+                settings = resolver.for_file(stdin_name if stdin_name != "<stdin>" else "-")
+            else:
+                data, name = read_bytes(path), path
+                settings = resolver.for_file(path)
+        except ReadError as exc:
+            run.problems.append(str(exc))
+            continue
+        key = cache.result_key(kind, settings.digest, data) if cache is not None else None
+        entries.append((path, name, data, settings, key))
+
+    found: list[list[Diagnostic] | None] = [None] * len(entries)
+    total = len(entries)
+    finished = 0
+
+    def tick() -> None:
+        if options.progress is not None:
+            options.progress(finished, total)
+
+    if cache is not None:
+        for i, (_path, _name, _data, _settings, key) in enumerate(entries):
+            found[i] = cache.get_result(key)
+        run.cached = sum(1 for f in found if f is not None)
+        finished = run.cached
+        tick()
+    hits = {i for i, f in enumerate(found) if f is not None}
+    # Files with the same key (same content and configuration) are analysed once.
+    missing: list[int] = []
+    same: dict[int, list[int]] = {}
+    first_of: dict[str, int] = {}
+    for i, f in enumerate(found):
+        if f is not None:
+            continue
+        key = entries[i][4]
+        if key is not None and key in first_of:
+            same[first_of[key]].append(i)
+            continue
+        if key is not None:
+            first_of[key] = i
+        missing.append(i)
+        same[i] = [i]
+
+    def done(j: int, diagnostics: list[Diagnostic]) -> None:
+        nonlocal finished
+        i = missing[j]
+        for k in same[i]:
+            found[k] = diagnostics
+        if cache is not None:
+            cache.put_result(entries[i][4], diagnostics)
+        finished += len(same[i])
+        tick()
+
+    tasks = [(entries[i][1], entries[i][2], kind,
+              tuple(f.signature for f in entries[i][3].functions)) for i in missing]
+    _analyze_all(tasks, options.jobs or available_cores(), done)
+
+    reports: list[FileReport] = []
+    for i, (path, name, data, settings, _key) in enumerate(entries):
+        source, _problem = decode_source(name, data)
+        shown = None if path == "-" and stdin_name == "<stdin>" else name
+        diagnostics = settings.apply(found[i], shown)
+        report = FileReport(source, diagnostics, path, cached=i in hits)
+        if options.fix and path != "-" and report.fixable:
+            try:
+                report = _fix_file(report, data, kind, settings, cache)
+            except OSError as exc:
+                run.problems.append(f"cannot write the fixes to `{path}`: "
+                                    f"{exc.strerror or exc}")
+            run.fixed += report.fixed
+            run.fixed_files += 1 if report.fixed else 0
+        reports.append(report)
+
+    configs = [FileReport(c.source, c.diagnostics, c.source.path)
+               for c in resolver.configs if c.diagnostics]
+    run.results = [*configs, *reports]
+    return run
+
+
+def _fix_file(report: FileReport, data: bytes, kind: str, settings, cache) -> FileReport:
+    """Apply the safe fixes of a file until none is left (or MAX_FIX_ROUNDS), re-linting
+    after each round; write the file atomically when it changed (OSError when it cannot be
+    written)."""
+    source, diagnostics = report.source, report.diagnostics
+    text = source.text
+    functions = tuple(f.signature for f in settings.functions)
+    fixed = 0
+    for _round in range(MAX_FIX_ROUNDS):
+        fixes = [d.fix for d in diagnostics if d.fix is not None and d.fix.safe]
+        if not fixes:
+            break
+        new_text, applied = apply_fixes(text, fixes)
+        if not applied or new_text == text:
+            break
+        fixed += applied
+        text = new_text
+        raw = _analyze_task((source.path, text.encode("utf-8"), kind, functions))
+        diagnostics = settings.apply(raw, source.path)
+    if text == source.text:
+        return report
+    bom = _BOM if data.startswith(_BOM) else b""
+    new_data = bom + text.encode("utf-8")
+    write_atomic(report.path, new_data)
+    if cache is not None:
+        cache.put_result(cache.result_key(kind, settings.digest, new_data), raw)
+    return FileReport(SourceFile(source.path, text), diagnostics, report.path, fixed=fixed)
+
+
+def settings_for(path: str, *, cache: bool = True):
+    """The configuration of one file (`scriptc compile FILE`): its `Settings`, and a report of
+    the configuration file's own problems (empty when it has none). `path` may be a file
+    name that does not exist (`--stdin-filename`): its folder is searched."""
+    from scriptc.config import Resolver
+
+    store = None
+    if cache:
+        from scriptc.cache import Cache, default_cache_dir
+
+        store = Cache(default_cache_dir())
+    resolver = Resolver(store)
+    settings = resolver.for_file(path if path not in ("-", "<stdin>") else "-")
+    reports = [FileReport(c.source, c.diagnostics, c.source.path)
+               for c in resolver.configs if c.diagnostics]
+    return settings, reports

@@ -26,6 +26,7 @@ VERBS: dict[str, tuple[str, str]] = {
     "fmt": ("scriptc.cli.fmt", "Format scripts in the canonical layout, comments kept."),
     "run": ("scriptc.cli.run", "Run scripts in simulated time (with a scenario, a trace)."),
     "dis": ("scriptc.cli.dis", "Print the listing of a bytecode (.scb) file."),
+    "init": ("scriptc.cli.init", "Scaffold an activity repository (configuration, example, CI)."),
 }
 
 INTERNAL_ERROR_HINT = (

@@ -19,6 +19,8 @@ _FAMILIES = {
     "R": "The rule grammar",
     "A": "Audio",
     "J": "Thesis JSON input",
+    "C": "Configuration and suppressions",
+    "K": "Safety against the robot profile",
 }
 
 

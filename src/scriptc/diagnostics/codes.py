@@ -13,6 +13,7 @@ links keep working. Families:
 - F  control flow between blocks    - V  values inside commands and messages
 - R  the rule grammar (conditions)  - A  audio tracks
 - J  thesis JSON input (`scriptc check`, `scriptc decompile`)
+- C  configuration (`scriptc.toml`, `[tool.scriptc]`) and suppression comments
 """
 
 from __future__ import annotations
@@ -99,6 +100,13 @@ _CODES = (
     Code("J001", "invalid-json", E, "the file is not valid JSON"),
     Code("J002", "schema-violation", E, "the JSON does not have the shape of a thesis script"),
     Code("J003", "invalid-jump-path", E, "a jump path that is not `goalG/actA/blkB` of an existing block"),
+    # C: configuration and suppressions
+    Code("C001", "unknown-config-key", E, "a key the configuration does not have"),
+    Code("C002", "invalid-config-value", E, "a configuration value of the wrong type or out of range"),
+    Code("C003", "unused-suppression", W, "a suppression comment that suppresses nothing"),
+    Code("C004", "invalid-code", W, "a code that does not exist, or an error code, in a suppression or the configuration"),
+    Code("C005", "invalid-config-file", E, "a configuration file that is not valid TOML"),
+    Code("C006", "invalid-suppression", W, "a `scriptc:` comment that is not a suppression scriptc understands"),
 )
 
 REGISTRY: dict[str, Code] = {c.code: c for c in _CODES}

@@ -1,0 +1,201 @@
+"""`scriptc init [DIR]`: scaffold an activity repository.
+
+Writes a configuration (`scriptc.toml`), an example activity (`activities/hello.script`), a
+scenario for the simulator (`scenarios/hello.json`), a folder for audio tracks, a GitHub
+Actions workflow (annotations and code scanning, `.github/workflows/scriptc.yml`) and a
+pre-commit configuration (`.pre-commit-config.yaml`). DIR (default: the working folder) is
+created when missing. Existing files are never overwritten: each is named as skipped. The
+repository it writes lints clean (tests/test_init.py holds that).
+
+Exit status: 0 done (some files may have been skipped), 2 DIR is not a folder or a file
+cannot be written.
+"""
+
+from __future__ import annotations
+
+import os
+
+import click
+
+from scriptc import __version__
+from scriptc.cli._shell import CliError, write
+
+CONFIG = """\
+# The configuration of this activity repository, read by every `scriptc` command run in it
+# (scriptc's docs/configuration.md describes each key).
+
+# Audio tracks (`AO("songs/hello.wav, 0, 1000")`) are written relative to this folder.
+audio-root = "audio"
+
+[lint]
+select = ["ALL"]
+ignore = []
+# Codes not to report in some files (patterns as in .gitignore):
+# per-file-ignores = { "drafts/**" = ["F001"] }
+# Warnings that should fail the build:
+# severity = { M004 = "error" }
+
+# The robot the activities run on: the limits the safety checks and the simulator use.
+# These are examples: write your robot's.
+[robot]
+max-linear-speed = 0.5          # m/s
+max-angular-speed = 1.5         # rad/s
+max-linear-acceleration = 0.5   # m/s^2
+max-angular-acceleration = 2.0  # rad/s^2
+min-human-distance = 0.4        # m
+max-led-flash-rate = 3.0        # flashes per second
+max-volume = 0.8                # fraction of the speaker's full volume
+
+# Functions of the rule grammar this repository adds (`B: waving()` in a condition), each
+# with the Python object that implements it, imported only when a simulation runs:
+# [[functions]]
+# name = "waving"
+# kind = "B"
+# arity = 0
+# doc = "True when the candidate Human waves at the robot."
+# implementation = "activity_functions:waving"
+"""
+
+ACTIVITY = """\
+% hello: the robot idles until a child comes within a metre, then greets them with a half
+  turn and a green flash, and ends.
+  Lint it with `scriptc lint .`; compile it with `scriptc compile activities/hello.script`. %
+[hello]
+[goal:greet]
+  [action]
+    [b#idle#blk_inst: MV("0, 0, 0, 0, 500") LD() AO()]
+    [b#look#blk_jump: CND({CLASS #Human T ?kid (B: near(1.0))} ! {TRUE}) TRJMP(greet) FLSJMP(idle)]
+    [b#greet#blk_inst: MV("0, 0, 1.5, 0, 2000") LD("0, 1, 0, 1, 0, 500", "0, 0, 0, 0, 500, 500") AO()]
+    [b#done#blk_terminus]
+"""
+
+SCENARIO = """\
+{
+  "description": "A child walks up to the robot: half a second in, they are 0.8 m away, straight ahead.",
+  "updates": [
+    {
+      "at": 500,
+      "objectid": "Human/kid1",
+      "attributename": "poses",
+      "policy": "R",
+      "jsonmsg": {"positionrho": 0.8, "positiontheta": 0.0, "positionchangetime": 500}
+    }
+  ]
+}
+"""
+
+AUDIO = """\
+# Audio tracks
+
+The activities' audio tracks go here (`audio-root` in scriptc.toml): a script plays
+`audio/songs/hello.wav` as `AO("songs/hello.wav, 0, 1000")`.
+"""
+
+WORKFLOW = f"""\
+# Lint the activities on every push and pull request. Errors fail the job; every diagnostic
+# shows as an annotation on the changed lines (--format github) and as a code-scanning alert
+# (--format sarif, uploaded below). The second run reads the first one's cache, so it costs
+# almost nothing.
+name: scriptc
+
+on:
+  push:
+  pull_request:
+
+permissions:
+  contents: read
+  security-events: write  # to upload SARIF to code scanning
+
+jobs:
+  lint:
+    runs-on: ubuntu-latest
+    steps:
+      - uses: actions/checkout@v4
+      - uses: actions/setup-python@v5
+        with:
+          python-version: "3.11"
+      - name: Install scriptc
+        run: python -m pip install "scriptc=={__version__}"
+      - name: Lint (annotations)
+        run: scriptc lint . --format github
+      - name: Lint (SARIF for code scanning)
+        if: always()
+        # Exit status 1 (errors found) still leaves a SARIF file to upload; 2 does not.
+        run: scriptc lint . --format sarif --quiet > scriptc.sarif || test $? -eq 1
+      - name: Upload to code scanning
+        if: always()
+        uses: github/codeql-action/upload-sarif@v3
+        with:
+          sarif_file: scriptc.sarif
+          category: scriptc
+"""
+
+PRE_COMMIT = """\
+# pre-commit (https://pre-commit.com): run `pre-commit install` once, then every commit
+# lints and formats the scripts it changes. These hooks run the installed `scriptc`.
+repos:
+  - repo: local
+    hooks:
+      - id: scriptc-fmt
+        name: scriptc fmt
+        entry: scriptc fmt
+        language: system
+        files: \\.script$
+      - id: scriptc-lint
+        name: scriptc lint
+        entry: scriptc lint --force-exclude
+        language: system
+        files: \\.script$
+        require_serial: true  # scriptc lints in parallel itself
+"""
+
+# (path inside DIR, content), in the order they are written and reported.
+FILES: tuple[tuple[str, str], ...] = (
+    ("scriptc.toml", CONFIG),
+    ("activities/hello.script", ACTIVITY),
+    ("scenarios/hello.json", SCENARIO),
+    ("audio/README.md", AUDIO),
+    (".github/workflows/scriptc.yml", WORKFLOW),
+    (".pre-commit-config.yaml", PRE_COMMIT),
+)
+
+
+def scaffold(folder: str) -> tuple[list[str], list[str]]:
+    """Write the files of a new activity repository into `folder` (made when missing), never
+    over an existing file: the paths written and the paths skipped. Raises OSError."""
+    os.makedirs(folder, exist_ok=True)
+    written, skipped = [], []
+    for name, text in FILES:
+        path = os.path.join(folder, *name.split("/"))
+        if os.path.lexists(path):
+            skipped.append(name)
+            continue
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+        # "x": created here or not at all, even if another process made it meanwhile.
+        try:
+            with open(path, "x", encoding="utf-8", newline="\n") as f:
+                f.write(text)
+        except FileExistsError:
+            skipped.append(name)
+            continue
+        written.append(name)
+    return written, skipped
+
+
+@click.command("init")
+@click.argument("folder", default=".", metavar="[DIR]")
+def command(folder: str) -> None:
+    """Scaffold an activity repository in DIR (default: here): configuration, an example
+    activity and scenario, a CI workflow and pre-commit hooks. Existing files are kept."""
+    if os.path.exists(folder) and not os.path.isdir(folder):
+        raise CliError(f"`{folder}` is not a folder")
+    try:
+        written, skipped = scaffold(folder)
+    except OSError as exc:
+        raise CliError(f"cannot write in `{folder}`: {exc.strerror or exc}") from None
+    lines = [f"created {name}" for name in written]
+    lines += [f"skipped {name} (it exists)" for name in skipped]
+    if written:
+        where = "" if os.path.abspath(folder) == os.getcwd() else f"cd {folder} && "
+        lines.append(f"next: {where}scriptc lint .")
+    write("".join(line + "\n" for line in lines))

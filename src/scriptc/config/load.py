@@ -1,0 +1,357 @@
+"""Finding and reading configuration files.
+
+A file's configuration is the nearest `scriptc.toml`, or `pyproject.toml` with a
+`[tool.scriptc]` table, in its folder or a folder above (a `pyproject.toml` without that
+table is not a configuration, and the search goes on upwards; in one folder `scriptc.toml`
+wins). Only the nearest configuration applies: configurations do not merge.
+
+Reading one costs a `tomllib` parse. Checking it (the JSON Schema and the rest, in
+`validate.py`) imports `jsonschema`, so its outcome is cached by the file's content: on the
+fast path of `scriptc lint`, an unchanged configuration is read, never validated again.
+A configuration with problems still applies, less the parts that are wrong.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from typing import Any, NamedTuple
+
+from scriptc.config.model import (ALL, ROBOT_KEYS, SEVERITIES, RobotProfile, Settings,
+                                  UserFunction, UserRule)
+from scriptc.diagnostics.model import Diagnostic, diagnostic
+from scriptc.source import SourceFile, Span
+
+CONFIG_FILES = ("scriptc.toml", "pyproject.toml")
+# Patterns are compiled on first use (`re` caches them): most runs never need them.
+_TOOL_TABLE = r"^[ \t]*\[[ \t]*tool[ \t]*\.[ \t]*[\"']?scriptc\b"
+_TOML_POSITION = r"\(at line (\d+), column (\d+)\)$"
+
+
+def shown_path(path: str) -> str:
+    """A path as diagnostics show it: relative to the working folder when inside it."""
+    try:
+        rel = os.path.relpath(path)
+    except ValueError:
+        return path
+    return path if rel == ".." or rel.startswith(".." + os.sep) else rel
+
+
+def _read(path: str) -> bytes | None:
+    try:
+        with open(path, "rb") as f:
+            return f.read()
+    except OSError:
+        return None
+
+
+# What a pyproject.toml configuring scriptc must contain: `[tool.scriptc...]`, a dotted key
+# `tool.scriptc.x = `, or `scriptc = {` / `scriptc.x = ` under `[tool]`. A file with none of
+# these is not parsed at all (tomllib costs 8 ms of cold start).
+_MAYBE_TOOL = rb"tool\s*\.\s*[\"']?scriptc\b|^\s*[\"']?scriptc[\"']?\s*(=\s*\{|\.)"
+
+
+def _pyproject_names_scriptc(data: bytes) -> bool:
+    """Whether a pyproject.toml configures scriptc (cheap: most never mention it)."""
+    if re.search(_MAYBE_TOOL, data, re.MULTILINE) is None:
+        return False
+    import tomllib
+
+    try:
+        table = tomllib.loads(data.decode("utf-8"))
+    except (UnicodeDecodeError, tomllib.TOMLDecodeError):
+        # A broken file that seems to hold the table is ours to report.
+        return bool(re.search(_TOOL_TABLE, data.decode("utf-8", errors="replace"),
+                              re.MULTILINE))
+    tool = table.get("tool")
+    return isinstance(tool, dict) and isinstance(tool.get("scriptc"), dict)
+
+
+def config_in(folder: str) -> str | None:
+    """The configuration file of `folder` itself, or None."""
+    candidate = os.path.join(folder, "scriptc.toml")
+    if os.path.isfile(candidate):
+        return candidate
+    candidate = os.path.join(folder, "pyproject.toml")
+    if os.path.isfile(candidate):
+        data = _read(candidate)
+        if data is not None and _pyproject_names_scriptc(data):
+            return candidate
+    return None
+
+
+def find_config(start: str) -> str | None:
+    """The configuration that applies to `start` (a file or a folder): the nearest one in it
+    or above it, as an absolute path, or None."""
+    folder = os.path.abspath(start)
+    if not os.path.isdir(folder):
+        folder = os.path.dirname(folder)
+    while True:
+        found = config_in(folder)
+        if found is not None:
+            return found
+        parent = os.path.dirname(folder)
+        if parent == folder:
+            return None
+        folder = parent
+
+
+class ConfigFile(NamedTuple):
+    """A configuration file read: its settings, its text and what is wrong in it."""
+
+    settings: Settings
+    source: SourceFile
+    diagnostics: list[Diagnostic]
+
+
+def _toml_error(text: str, exc: Exception) -> Diagnostic:
+    message = str(exc)
+    m = re.search(_TOML_POSITION, message)
+    if m is not None:
+        line, column = int(m.group(1)), int(m.group(2))
+        message = message[:m.start()].rstrip()
+        source = SourceFile("", text)
+        starts = source.line_starts
+        offset = starts[min(line, len(starts)) - 1] + column - 1
+    else:
+        message = message.replace(" (at end of document)", "")
+        offset = len(text)
+    offset = max(0, min(offset, len(text)))
+    first = message[:1].lower() + message[1:]
+    return diagnostic("C005", f"the configuration is not valid TOML: {first}",
+                      Span(offset, min(offset + 1, len(text))),
+                      help="see https://toml.io for the syntax")
+
+
+def load_config(path: str, cache: Any = None, *, pyproject: bool | None = None) -> ConfigFile:
+    """Read, check and build the configuration in `path` (a scriptc.toml or pyproject.toml;
+    `pyproject` says which when the file's name does not). Never raises: problems are
+    diagnostics in the file. `cache` (a `scriptc.cache.Cache`) keeps the outcome of checking
+    by the file's content."""
+    import tomllib
+
+    from scriptc.cache import code_fingerprint, digest
+
+    path = os.path.abspath(path)
+    root = os.path.dirname(path)
+    shown = shown_path(path)
+    data = _read(path)
+    if data is None:
+        source = SourceFile(shown, "")
+        return ConfigFile(Settings(path=path, root=root), source, [
+            diagnostic("C005", "the configuration file cannot be read", Span(0, 0))])
+    file_digest = digest(data)
+    base = Settings(path=path, root=root, digest=file_digest)
+    try:
+        text = data.decode("utf-8").removeprefix("\ufeff")
+    except UnicodeDecodeError as exc:
+        source = SourceFile(shown, data.decode("utf-8", errors="replace"))
+        return ConfigFile(base, source, [diagnostic(
+            "C005", "the configuration is not valid TOML: it is not UTF-8 text",
+            Span(exc.start, exc.start + 1))])
+    source = SourceFile(shown, text)
+    try:
+        document = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        return ConfigFile(base, source, [_toml_error(text, exc)])
+    prefix: tuple[str, ...] = ()
+    table: Any = document
+    if pyproject is None:
+        pyproject = os.path.basename(path) == "pyproject.toml"
+    if pyproject:
+        prefix = ("tool", "scriptc")
+        table = document.get("tool", {}).get("scriptc", {})
+        if not isinstance(table, dict):
+            table = {}
+
+    key = digest(code_fingerprint(), "config", "pyproject" if pyproject else "scriptc", data)
+    diagnostics = None
+    if cache is not None:
+        from scriptc.cache import load_diagnostic
+
+        entry = cache.get("config", key)
+        if isinstance(entry, list):
+            try:
+                diagnostics = [load_diagnostic(row) for row in entry]
+            except (TypeError, ValueError, KeyError):
+                diagnostics = None
+    if diagnostics is None:
+        from scriptc.config.validate import check_config
+
+        diagnostics = check_config(table, source, prefix)
+        if cache is not None:
+            from scriptc.cache import dump_diagnostic
+
+            cache.put("config", key, [dump_diagnostic(d) for d in diagnostics])
+    return ConfigFile(build_settings(table, path=path, root=root, digest=file_digest),
+                      source, diagnostics)
+
+
+# ---------------------------------------------------------------------------------------------
+# From the table to Settings: defensive, since a configuration with problems still applies
+# (each wrong value was reported by the checks and is left at its default here).
+
+
+def _strings(value: Any) -> tuple[str, ...]:
+    if not isinstance(value, list):
+        return ()
+    return tuple(v for v in value if isinstance(v, str) and v)
+
+
+def _number(value: Any) -> float | None:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return None
+    return float(value)
+
+
+def _name(value: Any) -> str | None:
+    if isinstance(value, str) and re.fullmatch(r"[A-Za-z_][A-Za-z0-9_-]*", value):
+        return value
+    return None
+
+
+def _implementation(value: Any) -> str | None:
+    if isinstance(value, str) and re.fullmatch(
+            r"[A-Za-z_]\w*(\.[A-Za-z_]\w*)*:[A-Za-z_]\w*(\.[A-Za-z_]\w*)*", value, re.ASCII):
+        return value
+    return None
+
+
+def build_settings(table: dict[str, Any], *, path: str | None = None, root: str = ".",
+                   digest: str = "") -> Settings:
+    """Settings from a configuration table (values of the wrong type are left out)."""
+    from scriptc.ir.builtins import STANDARD
+
+    lint = table.get("lint") if isinstance(table.get("lint"), dict) else {}
+    select = _strings(lint.get("select")) if "select" in lint else (ALL,)
+    pfi = lint.get("per-file-ignores")
+    per_file = tuple((pattern, _strings(codes)) for pattern, codes in pfi.items()
+                     if pattern and _strings(codes)) if isinstance(pfi, dict) else ()
+    sev = lint.get("severity")
+    severity = tuple((k, v) for k, v in sev.items()
+                     if isinstance(v, str) and v in SEVERITIES) if isinstance(sev, dict) else ()
+
+    robot_table = table.get("robot") if isinstance(table.get("robot"), dict) else {}
+    limits = {}
+    for key in ROBOT_KEYS:
+        value = _number(robot_table.get(key))
+        bounded = value is not None and value == value and (
+            value >= 0 if key == "min-human-distance" else value > 0) and (
+            key != "max-volume" or value <= 1)
+        limits[key.replace("-", "_")] = value if bounded else None
+
+    functions: list[UserFunction] = []
+    for item in table.get("functions", ()) if isinstance(table.get("functions"), list) else ():
+        if not isinstance(item, dict):
+            continue
+        name, kind = _name(item.get("name")), item.get("kind")
+        implementation = _implementation(item.get("implementation"))
+        params = item.get("params")
+        params = tuple(p for p in params if _name(p)) if isinstance(params, list) else ()
+        arity = item.get("arity")
+        if isinstance(arity, bool) or not isinstance(arity, int) or not 0 <= arity <= 255:
+            arity = len(params) if isinstance(item.get("params"), list) else None
+        if params and len(params) != arity:
+            params = ()
+        if name is None or kind not in ("B", "F", "E") or implementation is None or \
+                arity is None or STANDARD.get(name) is not None or \
+                any(f.name == name for f in functions):
+            continue
+        doc = item.get("doc") if isinstance(item.get("doc"), str) else ""
+        functions.append(UserFunction(name, kind, arity, implementation, params, doc, root))
+
+    rules: list[UserRule] = []
+    for item in table.get("rules", ()) if isinstance(table.get("rules"), list) else ():
+        if not isinstance(item, dict):
+            continue
+        name = _name(item.get("name"))
+        implementation = _implementation(item.get("implementation"))
+        code = item.get("rulecode")
+        if isinstance(code, bool) or not isinstance(code, int) or not 0 <= code < 2 ** 32:
+            code = None
+        if name is None or implementation is None or any(r.name == name for r in rules):
+            continue
+        doc = item.get("doc") if isinstance(item.get("doc"), str) else ""
+        rules.append(UserRule(name, implementation, code, doc, root))
+
+    audio = table.get("audio-root")
+    respect = table.get("respect-gitignore")
+    return Settings(
+        path=path,
+        root=root,
+        digest=digest,
+        select=select,
+        ignore=_strings(lint.get("ignore")),
+        per_file_ignores=per_file,
+        severity=severity,
+        exclude=_strings(table.get("exclude")),
+        respect_gitignore=respect if isinstance(respect, bool) else True,
+        audio_root=audio if isinstance(audio, str) and audio else ".",
+        robot=RobotProfile(**limits),
+        functions=tuple(functions),
+        rules=tuple(rules),
+    )
+
+
+# ---------------------------------------------------------------------------------------------
+# Many files: each folder's configuration found once
+
+
+class Resolver:
+    """The configuration of each file of a run, each folder searched and each configuration
+    file read once. `config` forces one file for all (`--config`); `isolated` uses none
+    (`--isolated`)."""
+
+    def __init__(self, cache: Any = None, *, config: str | None = None,
+                 isolated: bool = False) -> None:
+        self.cache = cache
+        self.forced = os.path.abspath(config) if config else None
+        self.isolated = isolated
+        self._by_folder: dict[str, str | None] = {}
+        self._files: dict[str, ConfigFile] = {}
+        self.default = Settings()
+
+    def config_path(self, folder: str) -> str | None:
+        if self.isolated:
+            return None
+        if self.forced:
+            return self.forced
+        folder = os.path.abspath(folder)
+        pending = []
+        found: str | None = None
+        while True:
+            if folder in self._by_folder:
+                found = self._by_folder[folder]
+                break
+            here = config_in(folder)
+            if here is not None:
+                found = here
+                self._by_folder[folder] = here
+                break
+            pending.append(folder)
+            parent = os.path.dirname(folder)
+            if parent == folder:
+                break
+            folder = parent
+        for p in pending:
+            self._by_folder[p] = found
+        return found
+
+    def file(self, path: str) -> ConfigFile:
+        loaded = self._files.get(path)
+        if loaded is None:
+            loaded = self._files[path] = load_config(path, self.cache)
+        return loaded
+
+    def for_folder(self, folder: str) -> Settings:
+        path = self.config_path(folder)
+        return self.default if path is None else self.file(path).settings
+
+    def for_file(self, path: str) -> Settings:
+        """The settings of the file `path` (`-` and names of stdin: the working folder's)."""
+        return self.for_folder(os.path.dirname(os.path.abspath(path)))
+
+    @property
+    def configs(self) -> list[ConfigFile]:
+        """Every configuration file read so far, in the order they were read."""
+        return list(self._files.values())

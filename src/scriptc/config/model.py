@@ -1,0 +1,305 @@
+"""The configuration as data: `Settings` (one configuration file, read and checked), the robot
+profile, the user's functions and rules, and the policy that turns what the checks found into
+what is reported (selection, per-file ignores, severity overrides).
+
+Errors are not policy: a script with an error does not work on the robot, so `select`,
+`ignore`, per-file ignores and severity overrides choose among warnings and info messages
+only (docs/configuration.md, "Errors are always reported"). Selectors name a code (`F001`),
+its name (`unreachable-block`), a prefix of codes (`F`, `F00`) or `ALL`; the most specific
+matching selector decides, and `ignore` wins a tie with `select`, as in ruff.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Iterable, Sequence
+from functools import cached_property
+from typing import Any, NamedTuple
+
+from scriptc.diagnostics.model import Diagnostic, Severity
+from scriptc.ir.builtins import STANDARD, Function, FunctionRegistry, Param
+
+ALL = "ALL"
+SEVERITIES = {"error": Severity.ERROR, "warning": Severity.WARNING, "info": Severity.INFO}
+
+
+# ---------------------------------------------------------------------------------------------
+# Selectors
+
+
+def selector_specificity(selector: str, code: str, name: str) -> int | None:
+    """How specifically `selector` names `code` (None: not at all). `ALL` is 0, a prefix its
+    length, a whole code or its name 10."""
+    if selector == ALL:
+        return 0
+    if selector.lower() == name:
+        return 10
+    upper = selector.upper()
+    if code.startswith(upper):
+        return 10 if upper == code else len(upper)
+    return None
+
+
+def selected_codes(selector: str) -> list[str]:
+    """The registry codes a selector names (empty when it names none)."""
+    from scriptc.diagnostics.codes import all_codes
+
+    return [c.code for c in all_codes()
+            if selector_specificity(selector, c.code, c.name) is not None]
+
+
+def _best(selectors: Iterable[str], code: str, name: str) -> int | None:
+    best = None
+    for selector in selectors:
+        s = selector_specificity(selector, code, name)
+        if s is not None and (best is None or s > best):
+            best = s
+    return best
+
+
+# ---------------------------------------------------------------------------------------------
+# The parts of a configuration
+
+
+class RobotProfile(NamedTuple):
+    """The limits of the robot (all optional: None is not checked). Units: m/s, rad/s, m/s²,
+    rad/s², m, flashes per second, a fraction of full volume."""
+
+    max_linear_speed: float | None = None
+    max_angular_speed: float | None = None
+    max_linear_acceleration: float | None = None
+    max_angular_acceleration: float | None = None
+    min_human_distance: float | None = None
+    max_led_flash_rate: float | None = None
+    max_volume: float | None = None
+
+
+# The TOML keys of the robot profile, in the order the documentation lists them (each is the
+# attribute's name with `-` for `_`).
+ROBOT_KEYS = ("max-linear-speed", "max-angular-speed", "max-linear-acceleration",
+              "max-angular-acceleration", "min-human-distance", "max-led-flash-rate",
+              "max-volume")
+
+
+class ImplementationError(Exception):
+    """A declared implementation (`module:attr`) that cannot be imported."""
+
+
+def import_implementation(spec: str, root: str) -> Any:
+    """The object a `module:attr` implementation names, imported with `root` (the folder of
+    the configuration) first on the import path. Raises ImplementationError."""
+    import importlib
+    import sys
+
+    module_name, _, attribute = spec.partition(":")
+    if not module_name or not attribute:
+        raise ImplementationError(f"`{spec}` is not of the form `module:attribute`")
+    if root not in sys.path:
+        sys.path.insert(0, root)
+    try:
+        obj = importlib.import_module(module_name)
+    except Exception as exc:  # noqa: BLE001 - the user's module may raise anything
+        raise ImplementationError(f"cannot import `{module_name}` (for `{spec}`): "
+                                  f"{type(exc).__name__}: {exc}") from exc
+    for part in attribute.split("."):
+        try:
+            obj = getattr(obj, part)
+        except AttributeError:
+            raise ImplementationError(f"`{module_name}` has no attribute `{attribute}` "
+                                      f"(for `{spec}`)") from None
+    return obj
+
+
+class UserFunction(NamedTuple):
+    """A function of the rule grammar declared by the repository (`[[functions]]`)."""
+
+    name: str
+    kind: str  # "B", "F" or "E"
+    arity: int
+    implementation: str  # "module:attr"
+    params: tuple[str, ...] = ()
+    doc: str = ""
+    root: str = "."  # the folder of the configuration that declares it
+
+    @property
+    def signature(self) -> Function:
+        """The signature the checks use (`scriptc.ir.builtins.Function`)."""
+        names = self.params or tuple(f"arg{i + 1}" for i in range(self.arity))
+        return Function(self.name, self.kind, tuple(Param(n, "") for n in names),
+                        self.doc or f"declared in the configuration ({self.implementation})",
+                        origin="config")
+
+    def load(self) -> Any:
+        """Import the implementation (only when asked: linting never does)."""
+        return import_implementation(self.implementation, self.root)
+
+
+class UserRule(NamedTuple):
+    """A rule implemented by the repository (`[[rules]]`): the id alfa and omega messages
+    name, its optional rulecode, and its implementation."""
+
+    name: str
+    implementation: str
+    rulecode: int | None = None
+    doc: str = ""
+    root: str = "."
+
+    def load(self) -> Any:
+        return import_implementation(self.implementation, self.root)
+
+
+# ---------------------------------------------------------------------------------------------
+# Settings
+
+
+class Settings:
+    """One configuration, read and checked. `Settings()` is the default (no file).
+
+    `path` is the configuration file (None for the default), `root` the folder its paths are
+    relative to, `digest` a hash of its bytes (part of the cache key of every result). A plain
+    class rather than a dataclass: `scriptc lint` imports it on every run, and generating a
+    dataclass's methods costs milliseconds of cold start. Treat it as immutable.
+    """
+
+    FIELDS = ("path", "root", "digest", "select", "ignore", "per_file_ignores", "severity",
+              "exclude", "respect_gitignore", "audio_root", "robot", "functions", "rules")
+
+    def __init__(self, path: str | None = None, root: str = ".", digest: str = "",
+                 select: tuple[str, ...] = (ALL,), ignore: tuple[str, ...] = (),
+                 per_file_ignores: tuple[tuple[str, tuple[str, ...]], ...] = (),
+                 severity: tuple[tuple[str, str], ...] = (), exclude: tuple[str, ...] = (),
+                 respect_gitignore: bool = True, audio_root: str = ".",
+                 robot: RobotProfile = RobotProfile(), functions: tuple[UserFunction, ...] = (),
+                 rules: tuple[UserRule, ...] = ()) -> None:
+        self.path = path
+        self.root = root
+        self.digest = digest
+        self.select = select
+        self.ignore = ignore
+        self.per_file_ignores = per_file_ignores
+        self.severity = severity
+        self.exclude = exclude
+        self.respect_gitignore = respect_gitignore
+        self.audio_root = audio_root
+        self.robot = robot
+        self.functions = functions
+        self.rules = rules
+
+    def _values(self) -> tuple[Any, ...]:
+        return tuple(getattr(self, name) for name in self.FIELDS)
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Settings) and self._values() == other._values()
+
+    def __hash__(self) -> int:
+        return hash(self._values())
+
+    def __repr__(self) -> str:
+        return "Settings(" + ", ".join(f"{n}={getattr(self, n)!r}" for n in self.FIELDS) + ")"
+
+    @cached_property
+    def registry(self) -> FunctionRegistry:
+        """The function registry the checks use: the standard functions and the declared
+        ones."""
+        if not self.functions:
+            return STANDARD
+        return STANDARD.extended(f.signature for f in self.functions)
+
+    @property
+    def audio_root_path(self) -> str:
+        return os.path.normpath(os.path.join(self.root, self.audio_root))
+
+    def function(self, name: str) -> UserFunction | None:
+        return next((f for f in self.functions if f.name == name), None)
+
+    def rule(self, name: str) -> UserRule | None:
+        return next((r for r in self.rules if r.name == name), None)
+
+    @cached_property
+    def _table(self) -> dict[str, tuple[bool, Severity | None]]:
+        """code -> (reported?, overridden severity) for every code of the registry."""
+        from scriptc.diagnostics.codes import all_codes
+
+        table = {}
+        overrides = [(selector, SEVERITIES[value]) for selector, value in self.severity
+                     if value in SEVERITIES]
+        for c in all_codes():
+            if c.severity is Severity.ERROR:
+                table[c.code] = (True, None)
+                continue
+            chosen = _best(self.select, c.code, c.name)
+            dropped = _best(self.ignore, c.code, c.name)
+            reported = chosen is not None and (dropped is None or chosen > dropped)
+            best, severity = None, None
+            for selector, value in overrides:
+                s = selector_specificity(selector, c.code, c.name)
+                if s is not None and (best is None or s >= best):
+                    best, severity = s, value
+            table[c.code] = (reported, severity if severity is not c.severity else None)
+        return table
+
+    @cached_property
+    def _per_file(self) -> list[tuple[Any, tuple[str, ...]]]:
+        import pathspec
+
+        out = []
+        for pattern, selectors in self.per_file_ignores:
+            try:
+                spec = pathspec.GitIgnoreSpec.from_lines([pattern])
+            except Exception:  # noqa: BLE001 - reported by validation (C002)
+                continue
+            out.append((spec, selectors))
+        return out
+
+    def relative(self, path: str) -> str | None:
+        """`path` relative to the root with forward slashes, or None outside it."""
+        try:
+            rel = os.path.relpath(os.path.abspath(path), os.path.abspath(self.root))
+        except ValueError:
+            return None
+        if rel == ".." or rel.startswith(".." + os.sep):
+            return None
+        return rel.replace(os.sep, "/")
+
+    def ignored_here(self, path: str | None) -> tuple[str, ...]:
+        """The per-file-ignores selectors that apply to `path`."""
+        if not self.per_file_ignores or path is None:
+            return ()
+        rel = self.relative(path)
+        if rel is None:
+            return ()
+        out: list[str] = []
+        for spec, selectors in self._per_file:
+            if spec.match_file(rel):
+                out.extend(selectors)
+        return tuple(out)
+
+    def apply(self, diagnostics: Sequence[Diagnostic], path: str | None = None
+              ) -> list[Diagnostic]:
+        """What is reported of `diagnostics` (of the file `path`): unselected and ignored
+        warnings and infos dropped, severities overridden. Errors pass unchanged."""
+        if self.select == (ALL,) and not self.ignore and not self.severity and \
+                not self.per_file_ignores:
+            return list(diagnostics)
+        table = self._table
+        here = self.ignored_here(path)
+        out = []
+        for d in diagnostics:
+            reported, severity = table.get(d.code, (True, None))
+            if d.severity is Severity.ERROR:
+                out.append(d)
+                continue
+            if not reported:
+                continue
+            if here:
+                from scriptc.diagnostics.codes import lookup
+
+                name = lookup(d.code).name
+                if _best(here, d.code, name) is not None:
+                    continue
+            if severity is not None and severity is not d.severity:
+                import dataclasses
+
+                d = dataclasses.replace(d, severity=severity)
+            out.append(d)
+        return out

@@ -1,0 +1,168 @@
+"""Finding the script files of a folder for `scriptc lint DIR`: a walk that skips hidden files
+and folders, what `.gitignore` files ignore, and what the configuration excludes.
+
+The .gitignore rules are git's (matched by `pathspec`, whose GitIgnoreSpec follows git's
+behaviour): every `.gitignore` from the repository's root down to the file applies, with
+patterns relative to the folder holding it; a deeper file's decision (a match, or a `!`
+negation) wins over a shallower one's, and within one file the last matching pattern wins;
+patterns ending in `/` match folders only; a pattern with a `/` before its end is anchored to
+its folder; a folder that is ignored is not entered, so nothing inside it can be brought back
+(git's rule too). `.git/info/exclude` applies as a `.gitignore` at the repository root. The
+repository's root is the nearest folder above holding `.git`; outside a repository, the
+.gitignore files from the walked folder down still apply.
+
+A configuration's `exclude` patterns (.gitignore syntax, relative to its folder) apply to the
+folders each configuration governs; `respect-gitignore = false` turns .gitignore off there.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable
+from typing import Any
+
+SCRIPT_SUFFIX = ".script"
+
+# A compiled .gitignore: (absolute folder with a trailing separator, GitIgnoreSpec).
+_Spec = tuple[str, Any]
+
+
+def _compile(lines: list[str]) -> Any | None:
+    import pathspec
+
+    lines = [line for line in lines if line.strip() and not line.lstrip().startswith("#")]
+    if not lines:
+        return None
+    try:
+        return pathspec.GitIgnoreSpec.from_lines(lines)
+    except Exception:  # noqa: BLE001 - a broken .gitignore is git's business, not ours
+        return None
+
+
+def _read_ignore_file(path: str) -> Any | None:
+    try:
+        with open(path, encoding="utf-8", errors="replace") as f:
+            return _compile(f.read().splitlines())
+    except OSError:
+        return None
+
+
+def repository_root(folder: str) -> str | None:
+    """The nearest folder at or above `folder` holding `.git` (a folder, or a file for a
+    worktree or submodule), or None."""
+    folder = os.path.abspath(folder)
+    while True:
+        if os.path.exists(os.path.join(folder, ".git")):
+            return folder
+        parent = os.path.dirname(folder)
+        if parent == folder:
+            return None
+        folder = parent
+
+
+def _decide(specs: list[_Spec], path: str, is_dir: bool) -> bool:
+    """Whether the .gitignore specs (shallowest first) ignore the absolute `path`."""
+    for base, spec in reversed(specs):
+        if not path.startswith(base):
+            continue
+        rel = path[len(base):].replace(os.sep, "/")
+        if is_dir:
+            rel += "/"
+        result = spec.check_file(rel)
+        if result.include is not None:
+            return bool(result.include)
+    return False
+
+
+class Walker:
+    """Walks folders for scripts. `settings_for(folder)` gives the `Settings` of a folder
+    (exclusions and `respect-gitignore`); without it nothing but hidden files is skipped."""
+
+    def __init__(self, settings_for: Callable[[str], Any] | None = None,
+                 suffix: str = SCRIPT_SUFFIX) -> None:
+        self.settings_for = settings_for
+        self.suffix = suffix
+        self._excludes: dict[int, tuple[str, Any] | None] = {}
+
+    def _exclude(self, settings: Any) -> tuple[str, Any] | None:
+        key = id(settings)
+        if key not in self._excludes:
+            spec = _compile(list(settings.exclude)) if settings.exclude else None
+            root = os.path.join(os.path.abspath(settings.root), "")
+            self._excludes[key] = (root, spec) if spec is not None else None
+        return self._excludes[key]
+
+    def excluded(self, path: str, is_dir: bool, settings: Any | None = None) -> bool:
+        """Whether the configuration excludes `path` (absolute)."""
+        if settings is None:
+            if self.settings_for is None:
+                return False
+            settings = self.settings_for(os.path.dirname(path))
+        exclude = self._exclude(settings)
+        return exclude is not None and _decide([exclude], path, is_dir)
+
+    def _respect(self, folder: str) -> bool:
+        return self.settings_for is None or self.settings_for(folder).respect_gitignore
+
+    def walk(self, top: str) -> list[str]:
+        """The script files under `top`, sorted, as paths starting with `top`."""
+        top_abs = os.path.abspath(top)
+        specs: list[_Spec] = []
+        repo = repository_root(top_abs)
+        if repo is not None and self._respect(top_abs):
+            spec = _read_ignore_file(os.path.join(repo, ".git", "info", "exclude"))
+            if spec is not None:
+                specs.append((os.path.join(repo, ""), spec))
+            # The .gitignore files of the folders above `top`, from the repository's root.
+            above = []
+            folder = os.path.dirname(top_abs)
+            while len(folder) >= len(repo) and folder.startswith(repo):
+                above.append(folder)
+                if folder == repo:
+                    break
+                folder = os.path.dirname(folder)
+            for folder in reversed(above):
+                spec = _read_ignore_file(os.path.join(folder, ".gitignore"))
+                if spec is not None:
+                    specs.append((os.path.join(folder, ""), spec))
+        found: list[str] = []
+        # Depth-first without recursion: (absolute folder, shown folder, specs that apply).
+        stack: list[tuple[str, str, list[_Spec]]] = [(top_abs, top, specs)]
+        while stack:
+            folder, shown, inherited = stack.pop()
+            settings = self.settings_for(folder) if self.settings_for is not None else None
+            respect = settings is None or settings.respect_gitignore
+            here = inherited
+            if respect:
+                spec = _read_ignore_file(os.path.join(folder, ".gitignore"))
+                if spec is not None:
+                    here = [*inherited, (os.path.join(folder, ""), spec)]
+            try:
+                entries = list(os.scandir(folder))
+            except OSError:
+                continue
+            for entry in entries:
+                name = entry.name
+                if name.startswith("."):
+                    continue
+                try:
+                    # Symbolic links to folders are not followed (as os.walk does not): a link
+                    # back up the tree would never end.
+                    is_dir = entry.is_dir(follow_symlinks=False)
+                    if not is_dir and entry.is_symlink() and entry.is_dir():
+                        continue
+                except OSError:
+                    continue
+                if not is_dir and not name.endswith(self.suffix):
+                    continue
+                path = entry.path
+                if respect and here and _decide(here, path, is_dir):
+                    continue
+                if settings is not None and self.excluded(path, is_dir, settings):
+                    continue
+                if is_dir:
+                    stack.append((path, os.path.join(shown, name), here))
+                else:
+                    found.append(os.path.join(shown, name))
+        found.sort()
+        return found

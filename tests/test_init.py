@@ -1,0 +1,132 @@
+"""`scriptc init [DIR]`: the scaffold lints clean, its files are valid (configuration, scenario,
+workflow, pre-commit), existing files are never overwritten; and the repository's own
+`.pre-commit-hooks.yaml` names commands that exist."""
+
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from scriptc.cli.init import FILES
+from scriptc.cli.main import VERBS, cli
+
+ROOT = Path(__file__).parent.parent
+
+
+def run(*args: str):
+    return CliRunner().invoke(cli, list(args), catch_exceptions=False)
+
+
+@pytest.fixture
+def scaffold(tmp_path: Path, monkeypatch) -> Path:
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.delenv("SCRIPTC_CACHE_DIR", raising=False)
+    result = run("init", "repo")
+    assert result.exit_code == 0, result.output
+    assert result.stdout.splitlines() == [f"created {name}" for name, _ in FILES] + [
+        "next: cd repo && scriptc lint ."]
+    return tmp_path / "repo"
+
+
+def test_the_scaffold_lints_clean(scaffold: Path) -> None:
+    result = run("lint", str(scaffold), "--no-cache")
+    assert (result.exit_code, result.stdout) == (0, "")
+    assert result.stderr == "checked 1 file: no problems\n"
+
+
+def test_the_configuration_is_valid_and_applies(scaffold: Path) -> None:
+    from scriptc.config import load_config
+
+    loaded = load_config(str(scaffold / "scriptc.toml"))
+    assert loaded.diagnostics == []
+    assert loaded.settings.robot.max_led_flash_rate == 3.0
+    assert loaded.settings.audio_root_path == str(scaffold / "audio")
+    assert (scaffold / "audio").is_dir()
+
+
+def test_the_example_compiles_and_the_scenario_fits_its_schema(scaffold: Path) -> None:
+    result = run("compile", str(scaffold / "activities" / "hello.script"), "-o", "-")
+    assert result.exit_code == 0 and json.loads(result.stdout)["activityname"] == "hello"
+    scenario = json.loads((scaffold / "scenarios" / "hello.json").read_text(encoding="utf-8"))
+    (update,) = scenario["updates"]
+    assert update == {"at": 500, "objectid": "Human/kid1", "attributename": "poses",
+                      "policy": "R", "jsonmsg": {"positionrho": 0.8, "positiontheta": 0.0,
+                                                 "positionchangetime": 500}}
+    schema = ROOT / "schemas" / "scenario.schema.json"
+    if schema.exists():  # the simulator's scenario format
+        import jsonschema
+
+        jsonschema.validate(scenario, json.loads(schema.read_text(encoding="utf-8")))
+
+
+def test_the_workflow_uploads_sarif_and_annotates(scaffold: Path) -> None:
+    text = (scaffold / ".github" / "workflows" / "scriptc.yml").read_text(encoding="utf-8")
+    assert "scriptc lint . --format github" in text
+    assert "scriptc lint . --format sarif" in text and "upload-sarif" in text
+    assert "security-events: write" in text and "\t" not in text
+    from scriptc import __version__
+
+    assert f'"scriptc=={__version__}"' in text
+
+
+def test_pre_commit_configuration_runs_real_verbs(scaffold: Path) -> None:
+    text = (scaffold / ".pre-commit-config.yaml").read_text(encoding="utf-8")
+    entries = re.findall(r"entry: scriptc (\w+)", text)
+    assert entries == ["fmt", "lint"] and "--force-exclude" in text
+    assert "lint" in VERBS
+
+
+def test_existing_files_are_never_overwritten(scaffold: Path) -> None:
+    (scaffold / "scriptc.toml").write_text("# mine\n", encoding="utf-8")
+    (scaffold / "activities" / "hello.script").unlink()
+    result = run("init", str(scaffold))
+    assert result.exit_code == 0
+    lines = result.stdout.splitlines()
+    assert "created activities/hello.script" in lines
+    assert "skipped scriptc.toml (it exists)" in lines
+    assert len([line for line in lines if line.startswith("skipped")]) == len(FILES) - 1
+    assert (scaffold / "scriptc.toml").read_text(encoding="utf-8") == "# mine\n"
+
+
+def test_init_in_the_working_folder_and_errors(tmp_path: Path, monkeypatch) -> None:
+    monkeypatch.chdir(tmp_path)
+    result = run("init")
+    assert result.exit_code == 0 and result.stdout.endswith("next: scriptc lint .\n")
+    (tmp_path / "file").write_text("x")
+    refused = run("init", "file")
+    assert refused.exit_code == 2 and "is not a folder" in refused.stderr
+
+
+def test_the_repositorys_pre_commit_hooks() -> None:
+    text = (ROOT / ".pre-commit-hooks.yaml").read_text(encoding="utf-8")
+    ids = re.findall(r"^- id: (\S+)$", text, re.MULTILINE)
+    assert ids == ["scriptc-lint", "scriptc-lint-fix", "scriptc-fmt", "scriptc-fmt-check"]
+    for entry in re.findall(r"^  entry: (.+)$", text, re.MULTILINE):
+        program, verb, *options = entry.split()
+        assert program == "scriptc" and verb in ("lint", "fmt")
+        if verb == "lint":
+            for option in options:
+                assert run("lint", "--help").stdout.count(option) >= 1, option
+    assert text.count("language: python") == len(ids)
+
+
+def test_the_cli_documentation_covers_every_option() -> None:
+    """docs/cli.md names each of these verbs' options and the exit statuses."""
+    docs = (ROOT / "docs" / "cli.md").read_text(encoding="utf-8")
+    from scriptc.cli.main import LazyGroup
+
+    group = cli
+    assert isinstance(group, LazyGroup)
+    for verb in ("compile", "lint", "check", "decompile", "explain", "init"):
+        assert f"## `scriptc {verb}" in docs, verb
+        command = group.get_command(None, verb)
+        for param in command.params:
+            for opt in param.opts:
+                if opt.startswith("-"):
+                    assert f"`{opt}" in docs, f"docs/cli.md lacks {verb} {opt}"
+    for status in ("0", "1", "2", "130"):
+        assert f"| {status} |" in docs
