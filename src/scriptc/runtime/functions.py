@@ -10,8 +10,8 @@ A function is called as `fn(call, *args)`: `call` is a `CallContext` (the map, t
 candidate entity for a B function, the bindings, and `goal_reached`), `args` the evaluated
 arguments: texts, numbers, or None for a missing value (an unbound alias, a field never set).
 B and E functions return a truth value, F functions a text (a number is turned into text; None
-makes the VAR/ATT assignment fail). Configuration files come in a later issue; until then
-activities register functions programmatically:
+makes the VAR/ATT assignment fail). A repository declares its functions in its configuration
+(`[[functions]]`, read by `runtime/configured.py`); code registers them directly:
 
     impls = STANDARD_IMPLEMENTATIONS.extended()
     impls.register("closer", "E", 2, lambda call, a, b: ..., doc="...")

@@ -31,7 +31,8 @@ rulecodes documented in docs/runtime.md):
   `goal=ID` (a goal id); `script` defaults to the running script.
 
 Activities register their own (`RuleLibrary.register`, or `register_simple` for a condition
-and a function); configuration files come in a later issue.
+and a function); a repository declares them in its configuration (`[[rules]]`, read by
+`runtime/configured.py`).
 """
 
 from __future__ import annotations
@@ -288,10 +289,13 @@ class RuleEntry:
 
 
 class RuleLibrary:
-    """Rule bodies by rulecode."""
+    """Rule bodies by rulecode, and the repository's rules that are known by their id only
+    (a `[[rules]]` entry of the configuration without a rulecode): a message whose rulecode
+    has no body is matched by its id among those (docs/configuration.md)."""
 
-    def __init__(self, entries=()) -> None:
+    def __init__(self, entries=(), named=()) -> None:
         self._by_code: dict[int, RuleEntry] = {e.rulecode: e for e in entries}
+        self._by_name: dict[str, RuleEntry] = {e.name: e for e in named}
 
     def register(self, rulecode: int, name: str, factory: RuleFactory, doc: str = "",
                  origin: str = "user") -> RuleEntry:
@@ -311,20 +315,30 @@ class RuleLibrary:
         return self.register(rulecode, name,
                              lambda m, p: SimpleRule(m, p, condition, on_true, on_false), doc)
 
-    def get(self, rulecode: int) -> RuleEntry | None:
-        return self._by_code.get(rulecode)
+    def register_named(self, name: str, factory: RuleFactory, doc: str = "",
+                       origin: str = "user") -> RuleEntry:
+        """Add a rule body found by the id of the messages that name it (no rulecode)."""
+        entry = RuleEntry(-1, name, factory, doc, origin)
+        self._by_name[name] = entry
+        return entry
+
+    def get(self, rulecode: int, rule_id: str | None = None) -> RuleEntry | None:
+        entry = self._by_code.get(rulecode)
+        if entry is None and rule_id is not None:
+            entry = self._by_name.get(rule_id)
+        return entry
 
     def __iter__(self):
         return iter(sorted(self._by_code.values(), key=lambda e: e.rulecode))
 
     def extended(self) -> RuleLibrary:
-        return RuleLibrary(self._by_code.values())
+        return RuleLibrary(self._by_code.values(), self._by_name.values())
 
     def make(self, message: RuleMessage) -> Rule:
         """A fresh rule for a message; raises RuleError. An unknown rulecode gives an
         `UnknownRule` (the caller reports it)."""
         params = parse_params(message.intopic) if "=" in message.intopic else {}
-        entry = self._by_code.get(message.rulecode)
+        entry = self.get(message.rulecode, message.id)
         if entry is None:
             return UnknownRule(message, params)
         return entry.factory(message, params)
