@@ -300,15 +300,17 @@ class _Layout:
 
 
 def _line_ending(text: str, comments: list[Span]) -> str:
-    """The file's line ending: its first line break outside comments (those inside a
-    comment are the comment's own text), `\\n` when it has none."""
-    pos = 0
-    for c in [*comments, Span(len(text), len(text))]:
-        m = _BREAK.search(text, pos, c.start)
-        if m:
-            return m.group()
-        pos = max(pos, c.end)
-    return "\n"
+    """The file's line ending: `\r\n` if the file has one anywhere, else `\n` if it has one,
+    else a lone `\r` if it has one, else `\n`. Deciding by presence, not by position or
+    count, keeps the style stable through formatting even in a file that mixes endings: every
+    break the formatter writes is of the chosen kind and the output ends with one, while the
+    breaks it keeps (inside comments, in text it cannot format) are never of a kind ranked
+    above it. So formatting twice changes nothing."""
+    if "\r\n" in text:
+        return "\r\n"
+    if "\n" in text:
+        return "\n"
+    return "\r" if "\r" in text else "\n"
 
 
 def _overlaps(problems: list[Span], start: int, end: int) -> bool:
