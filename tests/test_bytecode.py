@@ -193,13 +193,13 @@ def test_assembler_patches_forward_labels_and_compacts_spans() -> None:
     label = Label()
     asm.mark(0, 1)
     asm.mark(5, 6)  # replaces the entry above: nothing was emitted under it
-    asm.emit("COND", label)
+    asm.emit("COND", label, 0)
     asm.mark(5, 6)
     asm.emit("NEXT_BLOCK")
     asm.place(label)
     asm.emit("NEXT_BLOCK")
     assert asm.spans == [(0, 5, 6)]
-    assert int.from_bytes(asm.code[1:5], "little") == 6
+    assert int.from_bytes(asm.code[1:5], "little") == 10
 
 
 # ---------------------------------------------------------------------------------------------
@@ -228,8 +228,8 @@ def test_bad_magic(good: bytes) -> None:
 
 def test_wrong_version(good: bytes) -> None:
     data = good[:4] + struct.pack("<H", FORMAT_VERSION + 1) + good[6:]
-    with pytest.raises(MalformedError, match=r"unsupported format version 2 .*compile the "
-                                             r"script again"):
+    with pytest.raises(MalformedError, match=rf"unsupported format version {FORMAT_VERSION + 1} "
+                                             r".*compile the script again"):
         decode(data)
 
 
@@ -348,7 +348,7 @@ def test_bad_letters(program: Program) -> None:
 def test_stack_underflow() -> None:
     def build(asm: Assembler) -> None:
         fail = Label()
-        asm.emit("COND", fail)
+        asm.emit("COND", fail, 0)
         asm.emit("COMPARE", ord("="))
         asm.place(fail)
         asm.emit("NEXT_BLOCK")
@@ -359,7 +359,7 @@ def test_stack_underflow() -> None:
 def test_stack_overflow() -> None:
     def build(asm: Assembler) -> None:
         fail = Label()
-        asm.emit("COND", fail)
+        asm.emit("COND", fail, 0)
         for _ in range(MAX_STACK + 1):
             asm.emit("PUSH_CONST", 0)
         asm.emit("CALL_E", 0, 255)
@@ -372,7 +372,7 @@ def test_stack_overflow() -> None:
 def test_stack_types() -> None:
     def build(asm: Assembler) -> None:
         fail = Label()
-        asm.emit("COND", fail)
+        asm.emit("COND", fail, 0)
         asm.emit("PUSH_CONST", 0)
         asm.emit("JUMP_IF_FALSE", fail)
         asm.place(fail)
@@ -384,7 +384,7 @@ def test_stack_types() -> None:
 def test_values_left_at_an_exit() -> None:
     def build(asm: Assembler) -> None:
         fail = Label()
-        asm.emit("COND", fail)
+        asm.emit("COND", fail, 0)
         asm.emit("PUSH_CONST", 0)
         asm.emit("NEXT_BLOCK")
         asm.place(fail)
@@ -396,7 +396,7 @@ def test_values_left_at_an_exit() -> None:
 def test_this_needs_a_candidate() -> None:
     def build(asm: Assembler) -> None:
         fail = Label()
-        asm.emit("COND", fail)
+        asm.emit("COND", fail, 0)
         asm.emit("PUSH_THIS")
         asm.place(fail)
         asm.emit("NEXT_BLOCK")
@@ -407,7 +407,7 @@ def test_this_needs_a_candidate() -> None:
 def test_search_must_end_before_an_exit() -> None:
     def build(asm: Assembler) -> None:
         fail, bind = Label(), Label()
-        asm.emit("COND", fail)
+        asm.emit("COND", fail, 0)
         asm.emit("FIND", 0, 0, ord("U"), bind)
         asm.emit("NEXT_CANDIDATE")
         asm.emit("NEXT_BLOCK")
@@ -422,7 +422,7 @@ def test_search_must_end_before_an_exit() -> None:
 def test_find_needs_next_candidate_and_its_bind() -> None:
     def build(asm: Assembler) -> None:
         fail, bind = Label(), Label()
-        asm.emit("COND", fail)
+        asm.emit("COND", fail, 0)
         asm.emit("FIND", 0, 0, ord("U"), bind)
         asm.place(bind)
         asm.emit("BIND")
@@ -433,7 +433,7 @@ def test_find_needs_next_candidate_and_its_bind() -> None:
 
     def wrong_bind(asm: Assembler) -> None:
         fail = Label()
-        asm.emit("COND", fail)
+        asm.emit("COND", fail, 0)
         asm.emit("FIND", 0, 0, ord("U"), fail)
         asm.emit("NEXT_CANDIDATE")
         asm.emit("BIND")
@@ -446,7 +446,7 @@ def test_find_needs_next_candidate_and_its_bind() -> None:
 def test_searches_hold_tests_only() -> None:
     def forward(asm: Assembler) -> None:
         fail, bind = Label(), Label()
-        asm.emit("COND", fail)
+        asm.emit("COND", fail, 0)
         asm.emit("FIND", 0, 0, ord("U"), bind)
         asm.emit("NEXT_CANDIDATE")
         asm.emit("PUSH_THIS")
@@ -462,7 +462,7 @@ def test_searches_hold_tests_only() -> None:
 
     def assigns(asm: Assembler) -> None:
         fail, bind = Label(), Label()
-        asm.emit("COND", fail)
+        asm.emit("COND", fail, 0)
         asm.emit("FIND", 0, 0, ord("U"), bind)
         asm.emit("NEXT_CANDIDATE")
         asm.emit("PUSH_CONST", 0)
@@ -478,7 +478,7 @@ def test_searches_hold_tests_only() -> None:
 def test_paths_must_agree() -> None:
     def build(asm: Assembler) -> None:
         fail, join = Label(), Label()
-        asm.emit("COND", fail)
+        asm.emit("COND", fail, 0)
         asm.emit("PUSH_CONST", 0)
         asm.emit("PUSH_CONST", 0)
         asm.emit("COMPARE", ord("="))
@@ -495,7 +495,7 @@ def test_paths_must_agree() -> None:
 def test_running_off_the_block() -> None:
     def build(asm: Assembler) -> None:
         fail = Label()
-        asm.emit("COND", fail)
+        asm.emit("COND", fail, 0)
         asm.emit("NEXT_BLOCK")
         asm.place(fail)
         asm.emit("PUSH_CONST", 0)
@@ -506,7 +506,7 @@ def test_running_off_the_block() -> None:
 def test_block_shapes() -> None:
     invalid(one_block(lambda asm: asm.emit("NEXT_BLOCK"), "I"),
             "an instruction block must end with ISSUE NEXT_BLOCK")
-    invalid(one_block(lambda asm: asm.emit("COND", 5), "I"),
+    invalid(one_block(lambda asm: asm.emit("COND", 5, 0), "I"),
             "cannot appear in an instruction block")
     invalid(one_block(lambda asm: asm.emit("NEXT_BLOCK")), "must start with COND")
     invalid(one_block(lambda asm: (asm.emit("SENSE"), asm.emit("PAYLOAD", 0),

@@ -373,7 +373,7 @@ def test_clean_script_has_no_diagnostics():
 def test_passes_are_the_documented_tuple():
     names = [p.__name__ for p in PASSES]
     assert names == ["check_messages", "check_labels", "check_flow", "check_values",
-                     "check_conditions", "check_audio"]
+                     "check_conditions", "check_audio", "check_safety"]
 
 
 def _chain(n):

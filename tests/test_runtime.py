@@ -61,6 +61,8 @@ def run(text: str, world=None, until=None, **kwargs):
 
 
 def cli_run(*args: str):
+    if "--robot" not in args:  # the default is mujoco (tests/test_mujoco*.py); these hold kinematic
+        args = (*args, "--robot", "kinematic")
     return CliRunner().invoke(cli, ["run", *args], catch_exceptions=False)
 
 
@@ -180,8 +182,8 @@ def test_kinematic_robot_splits_nothing_it_does_not_need_to() -> None:
 
 
 def test_unknown_robot_is_refused() -> None:
-    with pytest.raises(ValueError, match="unknown robot `mujoco`"):
-        make_robot("mujoco")
+    with pytest.raises(ValueError, match="unknown robot `hoverboard`"):
+        make_robot("hoverboard")
     result = cli_run(str(EXAMPLE), "--robot", "nope")
     assert result.exit_code == 2 and "unknown robot `nope`" in result.output
 
@@ -575,18 +577,21 @@ def test_cli_bad_world_and_missing_file_exit_2(tmp_path: Path) -> None:
     assert cli_run(str(tmp_path / "nope.script")).exit_code == 2
 
 
-def test_cli_bytecode_is_verified_then_not_run_yet(tmp_path: Path) -> None:
-    """FIXME: when a VM exists (scriptc.runtime.vm.program_from_bytecode), `.scb` files run:
-    this test then asserts the Listing 4.1 bytecode runs for 16,000 ms like the script."""
+def test_cli_bytecode_is_verified_then_run_by_the_vm(tmp_path: Path) -> None:
+    """A `.scb` file is decoded and verified (refused, exit 1, when malformed), then runs on the
+    VM: the Listing 4.1 bytecode runs for 16,000 ms like the script, to the same summary."""
     bad = tmp_path / "bad.scb"
     bad.write_bytes(b"SCB\x00")
     result = cli_run(str(bad))
     assert result.exit_code == 1 and "malformed bytecode" in result.stderr
     scb = tmp_path / "t.scb"
     assert CliRunner().invoke(cli, ["compile", str(EXAMPLE), "--emit", "bytecode", "-o", str(scb)]).exit_code == 0
-    result = cli_run(str(scb))
-    assert result.exit_code == 2
-    assert "bytecode execution is not available yet" in result.stderr
+    ran = json.loads(cli_run(str(scb), "--json").stdout)
+    assert ran["outcome"] == "completed" and ran["time_ms"] == 16_000
+    for executor in ("vm", "ir"):
+        script = json.loads(cli_run(str(EXAMPLE), "--json", "--executor", executor).stdout)
+        assert (script["outcome"], script["time_ms"], script["pose"]) == \
+            (ran["outcome"], ran["time_ms"], ran["pose"])
 
 
 def test_cli_refuses_a_loop_that_never_lets_time_pass(tmp_path: Path) -> None:
@@ -632,7 +637,7 @@ def test_scriptc_run_stays_light(tmp_path: Path) -> None:
 
     (tmp_path / "a.script").write_text(
         "[a]\n[goal:g]\n[action]\n[b##blk_inst: MV() LD() AO()]\n[b##blk_terminus]\n", encoding="utf-8")
-    probe = ("import sys\nfrom scriptc.cli.main import main\nsys.argv = ['scriptc', 'run', 'a.script']\n"
+    probe = ("import sys\nfrom scriptc.cli.main import main\nsys.argv = ['scriptc', 'run', 'a.script', '--robot', 'kinematic']\n"
              "try:\n    main()\nexcept SystemExit:\n    pass\n"
              "print(sorted({m.split('.')[0] for m in sys.modules}))")
     done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,

@@ -28,7 +28,8 @@ def test_wheel_ships_data_and_runs_anywhere(tmp_path: Path) -> None:
     names = set(zipfile.ZipFile(wheel).namelist())
     for required in ("scriptc/grammar/script.lark", "scriptc/grammar/condition.lark",
                      "scriptc/schemas/thesis-script.schema.json",
-                     "scriptc/diagnostics/explanations/L003.md"):
+                     "scriptc/diagnostics/explanations/L003.md",
+                     "scriptc/runtime/robots/teo.xml"):
         assert required in names, f"{required} is not in the wheel"
 
     target = tmp_path / "site"

@@ -12,7 +12,9 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from scriptc.diagnostics.model import Diagnostic, has_errors
+from scriptc.analysis import finish
 from scriptc.gcpause import gc_paused
+from scriptc.profile import profile_from_settings
 from scriptc.ir.builtins import STANDARD, FunctionRegistry
 from scriptc.ir.nodes import Script
 from scriptc.source import SourceFile
@@ -35,43 +37,30 @@ class Analysis:
 
 
 def _finish(source: SourceFile, script: Script | None, front: list[Diagnostic],
-            functions: FunctionRegistry, kind: str = "json") -> Analysis:
-    diagnostics = list(front)
-    # Semantic checks run on a script whose front end reported no error: a broken item would
-    # otherwise cascade into reports about labels and flow that are not the user's mistake
-    # (docs/language.md, "Error recovery").
-    checked = script is not None and not has_errors(front)
-    if checked:
-        from scriptc.check import check_script
-
-        diagnostics.extend(check_script(script, source, functions=functions))
-    diagnostics.sort(key=Diagnostic.sort_key)
-    suppressed: list[Diagnostic] = []
-    # Suppression comments are part of the script (JSON has no comments); one substring
-    # search when there are none.
-    if kind == "script" and "scriptc:" in source.text:
-        from scriptc.suppress import apply_suppressions
-
-        diagnostics, suppressed = apply_suppressions(source, diagnostics, checked=checked)
+            functions: FunctionRegistry, kind: str = "json", profile=None) -> Analysis:
+    diagnostics, suppressed = finish(source, script, front, functions=functions, kind=kind,
+                                     profile=profile)
     return Analysis(source, script, diagnostics, suppressed)
 
 
-def analyze_script(source: SourceFile, functions: FunctionRegistry = STANDARD) -> Analysis:
+def analyze_script(source: SourceFile, functions: FunctionRegistry = STANDARD,
+                   profile=None) -> Analysis:
     """Parse, lower and check script syntax."""
     from scriptc.ir.lower import lower_script
 
     with gc_paused():
         script, front = lower_script(source)
-        return _finish(source, script, front, functions, "script")
+        return _finish(source, script, front, functions, "script", profile)
 
 
-def analyze_json(source: SourceFile, functions: FunctionRegistry = STANDARD) -> Analysis:
+def analyze_json(source: SourceFile, functions: FunctionRegistry = STANDARD,
+                 profile=None) -> Analysis:
     """Read thesis JSON (schema, then IR) and run the same checks as for script syntax."""
     from scriptc.ir.from_json import script_from_json
 
     with gc_paused():
         script, front = script_from_json(source)
-        return _finish(source, script, front, functions)
+        return _finish(source, script, front, functions, "json", profile)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -153,24 +142,24 @@ def read_source(path: str | os.PathLike[str], name: str | None = None
 
 
 def analyze_bytes(name: str, data: bytes, kind: str = "script",
-                  functions: FunctionRegistry = STANDARD) -> Analysis:
+                  functions: FunctionRegistry = STANDARD, profile=None) -> Analysis:
     """Decode and analyse one file's bytes as script syntax (`kind="script"`) or thesis JSON
     (`kind="json"`). Undecodable content gives an Analysis with no script and P007."""
     source, problem = decode_source(name, data)
     if problem is not None:
         return Analysis(source, None, [problem])
     if kind == "script":
-        return analyze_script(source, functions)
+        return analyze_script(source, functions, profile)
     if kind == "json":
-        return analyze_json(source, functions)
+        return analyze_json(source, functions, profile)
     raise ValueError(f"unknown kind of source {kind!r}")
 
 
 def analyze_file(path: str | os.PathLike[str], kind: str = "script", name: str | None = None,
-                 functions: FunctionRegistry = STANDARD) -> Analysis:
+                 functions: FunctionRegistry = STANDARD, profile=None) -> Analysis:
     """Read and analyse one file; raises ReadError when it cannot be read."""
     return analyze_bytes(name if name is not None else os.fspath(path), read_bytes(path), kind,
-                         functions)
+                         functions, profile)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -479,11 +468,12 @@ def _registry(functions: tuple) -> FunctionRegistry:
     return registry
 
 
-def _analyze_task(task: tuple[str, bytes, str, tuple]) -> list[Diagnostic]:
+def _analyze_task(task: tuple) -> list[Diagnostic]:
     """Analyse one file (in a worker or in this process): its diagnostics after its own
-    suppressions, before the configuration's policy."""
-    name, data, kind, functions = task
-    return analyze_bytes(name, data, kind, _registry(functions)).diagnostics
+    suppressions, before the configuration's policy. A task is (name, bytes, kind, the
+    declared functions' signatures, the robot profile)."""
+    name, data, kind, functions, profile = task
+    return analyze_bytes(name, data, kind, _registry(functions), profile=profile).diagnostics
 
 
 def _analyze_chunk(tasks: list[tuple[str, bytes, str, tuple]]) -> list[list[Diagnostic]]:
@@ -672,7 +662,8 @@ def lint_paths(paths: list[str] | tuple[str, ...], kind: str = "script", *,
         tick()
 
     tasks = [(entries[i][1], entries[i][2], kind,
-              tuple(f.signature for f in entries[i][3].functions)) for i in missing]
+              tuple(f.signature for f in entries[i][3].functions),
+              profile_from_settings(entries[i][3])) for i in missing]
     _analyze_all(tasks, options.jobs or available_cores(), done)
 
     reports: list[FileReport] = []
@@ -704,6 +695,7 @@ def _fix_file(report: FileReport, data: bytes, kind: str, settings, cache) -> Fi
     source, diagnostics = report.source, report.diagnostics
     text = source.text
     functions = tuple(f.signature for f in settings.functions)
+    profile = profile_from_settings(settings)
     fixed = 0
     for _round in range(MAX_FIX_ROUNDS):
         fixes = [d.fix for d in diagnostics if d.fix is not None and d.fix.safe]
@@ -714,7 +706,7 @@ def _fix_file(report: FileReport, data: bytes, kind: str, settings, cache) -> Fi
             break
         fixed += applied
         text = new_text
-        raw = _analyze_task((source.path, text.encode("utf-8"), kind, functions))
+        raw = _analyze_task((source.path, text.encode("utf-8"), kind, functions, profile))
         diagnostics = settings.apply(raw, source.path)
     if text == source.text:
         return report

@@ -36,7 +36,7 @@ __all__ = [
 MAGIC = b"SCB\x00"
 # Bumped whenever a byte of the format changes meaning (a new opcode included). A reader
 # refuses every version but its own: the remedy is always to compile the script again.
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2
 # The u32 written where an optional index (a label, the source name) is absent.
 NONE = 0xFFFF_FFFF
 

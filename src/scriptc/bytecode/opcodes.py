@@ -199,12 +199,14 @@ OPCODES: tuple[Opcode, ...] = (
            "instruction or sensor block); past the last block the script ends.",
            terminator=True, search_in=(SEARCH_NONE,), empty_stack=True),
     # -- conditions: control -----------------------------------------------------------------
-    Opcode(0x10, "COND", _ops("fail:jump"), "", "J",
+    Opcode(0x10, "COND", _ops("fail:jump", "condition:text"), "", "J",
            "Start evaluating a condition: empty the stack, no search, and set the failure "
-           "handler to `fail`, where the false exit starts. Only the first instruction of a "
+           "handler to `fail`, where the false exit starts. `condition` is the condition's "
+           "canonical text (the `toparse` of the thesis JSON), which a runtime reports with "
+           "the jump. Only the first instruction of a "
            "jump block. An instruction that *fails* empties the stack, ends the search and "
            "continues at `fail`.",
-           "fail {fail}"),
+           "fail {fail}  {condition}"),
     Opcode(0x11, "JUMP_IF_FALSE", _ops("target:jump"), "b ->", "J",
            "Pop a truth value; if it is false, continue at `target`: forward outside a "
            "search, back to the search's NEXT_CANDIDATE inside one (the candidate is "

@@ -16,9 +16,10 @@ produced before sorting:
 4. `values.check_values`         V003-V007  numbers in commands, messages and conditions
 5. `conditions.check_conditions` R001-R009  the rule grammar against classes and functions
 6. `audio.check_audio`           A001-A003  audio track paths
+7. `safety.check_safety`         K001-K002  speeds and flashing LEDs against the robot profile
 
-Importing this package loads only the standard library and `scriptc.ir`/`scriptc.diagnostics`
-(difflib is imported when a suggestion is needed).
+Importing this package loads only the standard library, `scriptc.ir`/`scriptc.diagnostics`
+and `scriptc.profile` (difflib is imported when a suggestion is needed).
 """
 
 from __future__ import annotations
@@ -29,9 +30,11 @@ from scriptc.check.context import Context
 from scriptc.check.flow import check_flow
 from scriptc.check.labels import check_labels
 from scriptc.check.messages import check_messages
+from scriptc.check.safety import check_safety
 from scriptc.check.values import check_values
 from scriptc.diagnostics.model import Diagnostic
 from scriptc.ir.builtins import STANDARD, FunctionRegistry
+from scriptc.profile import Profile
 from scriptc.ir.nodes import Script
 from scriptc.source import SourceFile
 
@@ -42,16 +45,19 @@ PASSES = (
     check_values,
     check_conditions,
     check_audio,
+    check_safety,
 )
 
 __all__ = ["PASSES", "Context", "check_script"]
 
 
 def check_script(
-    script: Script, source: SourceFile, *, functions: FunctionRegistry = STANDARD
+    script: Script, source: SourceFile, *, functions: FunctionRegistry = STANDARD,
+    profile: Profile | None = None,
 ) -> list[Diagnostic]:
-    """Every diagnostic the semantic passes find in `script`, sorted by position."""
-    ctx = Context(script, source, functions)
+    """Every diagnostic the semantic passes find in `script`, sorted by position. `profile`
+    is the robot profile the safety pass checks against (None: the defaults)."""
+    ctx = Context(script, source, functions, profile)
     diagnostics: list[Diagnostic] = []
     for check in PASSES:
         diagnostics.extend(check(ctx))

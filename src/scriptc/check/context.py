@@ -13,6 +13,7 @@ from functools import cached_property
 
 from scriptc.diagnostics.model import Fix, TextEdit
 from scriptc.ir.builtins import STANDARD, FunctionRegistry
+from scriptc.profile import DEFAULT_PROFILE, Profile
 from scriptc.ir.nodes import Block, JumpBlock, Name, Script
 from scriptc.source import SourceFile, Span
 
@@ -32,11 +33,13 @@ class Context:
     """The input of every pass. Cheap to build; tables are computed on first use."""
 
     def __init__(
-        self, script: Script, source: SourceFile, functions: FunctionRegistry = STANDARD
+        self, script: Script, source: SourceFile, functions: FunctionRegistry = STANDARD,
+        profile: Profile | None = None,
     ) -> None:
         self.script = script
         self.source = source
         self.functions = functions
+        self.profile = profile if profile is not None else DEFAULT_PROFILE
 
     @cached_property
     def is_script_syntax(self) -> bool:

@@ -11,6 +11,7 @@ from typing import IO
 import click
 
 from scriptc import driver
+from scriptc.profile import profile_from_settings
 from scriptc.diagnostics.render import FORMATS, render
 
 
@@ -57,9 +58,11 @@ def load(path: str, kind: str, stdin_name: str = "<stdin>") -> driver.Analysis:
         show(config_reports, err=True)
     try:
         if path == "-":
-            analysis = driver.analyze_bytes(stdin_name, read_stdin(), kind, settings.registry)
+            analysis = driver.analyze_bytes(stdin_name, read_stdin(), kind, settings.registry,
+                                            profile_from_settings(settings))
         else:
-            analysis = driver.analyze_file(path, kind, functions=settings.registry)
+            analysis = driver.analyze_file(path, kind, functions=settings.registry,
+                                           profile=profile_from_settings(settings))
     except driver.ReadError as exc:
         raise CliError(str(exc)) from None
     analysis.diagnostics = settings.apply(analysis.diagnostics,

@@ -23,10 +23,11 @@ VERBS: dict[str, tuple[str, str]] = {
     "check": ("scriptc.cli.check", "Check thesis JSON files."),
     "decompile": ("scriptc.cli.decompile", "Turn thesis JSON back into script syntax."),
     "explain": ("scriptc.cli.explain", "Explain a diagnostic code."),
-    "fmt": ("scriptc.cli.fmt", "Format scripts in the canonical layout, comments kept."),
+    "init": ("scriptc.cli.init", "Scaffold an activity repository (configuration, example, CI)."),
+    "lsp": ("scriptc.cli.lsp", "Run the language server (LSP over stdin/stdout)."),
     "run": ("scriptc.cli.run", "Run scripts in simulated time (with a scenario, a trace)."),
     "dis": ("scriptc.cli.dis", "Print the listing of a bytecode (.scb) file."),
-    "init": ("scriptc.cli.init", "Scaffold an activity repository (configuration, example, CI)."),
+    "fmt": ("scriptc.cli.fmt", "Format scripts in the canonical layout, comments kept."),
 }
 
 INTERNAL_ERROR_HINT = (

@@ -1,14 +1,18 @@
-"""`scriptc run FILE... [--world FILE] [--until MS] [--trace FILE] [--robot NAME] [--json]`:
-run scripts as one session in simulated time (docs/runtime.md).
+"""`scriptc run FILE... [--world FILE] [--until MS] [--trace FILE] [--robot NAME]
+[--governor/--no-governor] [--plot FILE] [--executor vm|ir] [--json]`: run scripts as one
+session in simulated time (docs/runtime.md) on the MuJoCo robot (the default; `--robot
+kinematic` is the ideal robot), governed by the robot profile (docs/robot.md).
 
 The files are queued in the order given and run one after the other; the run ends when every
 one has ended (it does not sit in `idle_activity`) or at `--until` (without it, after one hour
 of simulated time: a script may loop forever). `.script` and `.json`
 (thesis JSON) files are read and checked like `compile`/`check` do: a file with errors is
-refused with its diagnostics (exit 1) and nothing runs. `.scb` (bytecode) runs through the VM
-when there is one. Exit status: 0 when the run completed or reached `--until`, 1 for a
-script with errors or a run stopped by a run-time error, 2 for a usage problem (a file that
-cannot be read, a bad scenario, bytecode that cannot run yet).
+refused with its diagnostics (exit 1) and nothing runs; the others are compiled to bytecode in
+memory and run through the VM (`--executor ir` runs them through the reference interpreter over
+the IR instead, for comparison). `.scb` (bytecode) is decoded, verified and runs through the
+VM. Exit status: 0 when the run completed or reached `--until`, 1 for a script with errors or
+a run stopped by a run-time error, 2 for a usage problem (a file that cannot be read, a bad
+scenario).
 """
 
 from __future__ import annotations
@@ -36,33 +40,43 @@ class Refused(CliError):
 
 def _bytecode_program(path: str):
     """A program for a `.scb` file: decoded and verified, then run through the VM."""
-    import importlib.util
-
     try:
         data = driver.read_bytes(path)
     except driver.ReadError as exc:
         raise CliError(str(exc)) from None
-    if importlib.util.find_spec("scriptc.bytecode") is None:
-        raise CliError(f"`{path}`: bytecode execution is not available yet")
     from scriptc.bytecode import BytecodeError, load
+    from scriptc.runtime import vm
 
     try:
         program = load(data)
     except BytecodeError as exc:
         raise Refused(f"`{path}`: {exc}") from None
-    if importlib.util.find_spec("scriptc.runtime.vm") is None:
-        raise CliError(f"`{path}`: bytecode execution is not available yet (the file is "
-                       "valid bytecode)")
-    from scriptc.runtime import vm
-
     # The VM's entry point: a runtime `Program` (executor.py) over a verified bytecode Program.
     return vm.program_from_bytecode(program, path)
 
 
-def _analyze(paths: tuple[str, ...]):
-    """Programs for the files, or exit 1 with every file's diagnostics."""
-    from scriptc.runtime.interp import IRProgram
+def _checked_program(analysis, path: str, executor: str):
+    """The runtime program of a checked script: compiled to bytecode in memory, loaded (decoded
+    and verified, as a `.scb` file is) and run by the VM; or, with `--executor ir`, read from
+    the IR by the reference interpreter."""
+    if executor == "ir":
+        from scriptc.runtime.interp import IRProgram
 
+        return IRProgram(analysis.script, path)
+    from scriptc.bytecode import load
+    from scriptc.emit.codegen import CodegenError
+    from scriptc.runtime import vm
+
+    try:
+        data = driver.emit(analysis.script, "bytecode", analysis.source)
+    except CodegenError as exc:  # only for what the checks let through (none known)
+        raise Refused(f"`{path}` cannot be compiled to bytecode: {exc} (`--executor ir` "
+                      "runs it)") from None
+    return vm.program_from_bytecode(load(data), path)
+
+
+def _analyze(paths: tuple[str, ...], executor: str = "vm"):
+    """Programs for the files, or exit 1 with every file's diagnostics."""
     analyses, programs = [], []
     for path in paths:
         kind = _kind(path)
@@ -74,13 +88,12 @@ def _analyze(paths: tuple[str, ...]):
         except driver.ReadError as exc:
             raise CliError(str(exc)) from None
         analyses.append(analysis)
-        programs.append(IRProgram(analysis.script, path) if analysis.ok else None)
+        programs.append(_checked_program(analysis, path, executor) if analysis.ok else None)
     return analyses, programs
 
 
-def _loader(path: str):
+def _loader(path: str, executor: str = "vm"):
     """Scripts named at run time (a `script_vect` update, an override by path)."""
-    from scriptc.runtime.interp import IRProgram
     from scriptc.runtime.session import LoadError
 
     kind = _kind(path)
@@ -95,7 +108,10 @@ def _loader(path: str):
         raise LoadError(str(exc)) from None
     if not analysis.ok:
         raise LoadError(f"`{path}` has errors (run `scriptc lint {path}`)")
-    return IRProgram(analysis.script, path)
+    try:
+        return _checked_program(analysis, path, executor)
+    except CliError as exc:
+        raise LoadError(exc.format_message()) from None
 
 
 @click.command("run")
@@ -106,12 +122,25 @@ def _loader(path: str):
               help="Stop at this simulated time (ms).")
 @click.option("--trace", "trace_path", metavar="FILE",
               help="Write the trace as JSON lines (- for stdout).")
-@click.option("--robot", "robot", default="kinematic", show_default=True, metavar="NAME",
-              help="Robot backend (kinematic).")
+@click.option("--robot", "robot", default="mujoco", show_default=True, metavar="NAME",
+              help="Robot backend: mujoco (the physics of the Teo/Oimi model) or kinematic "
+                   "(exact integration).")
+@click.option("--governor/--no-governor", "governor", default=None,
+              help="Clamp velocities to the robot profile (default: on with mujoco, off with "
+                   "kinematic, the ideal robot that does exactly what the script says).")
+@click.option("--plot", "plot_path", metavar="FILE",
+              help="Draw the run (trajectory from above, timeline of the tracks) to FILE.png "
+                   "or FILE.svg (needs matplotlib: pip install 'scriptc[plot]').")
+@click.option("--executor", "executor", type=click.Choice(["vm", "ir"]), default="vm",
+              show_default=True,
+              help="How .script and .json files run: vm (compiled to bytecode, run by the VM) "
+                   "or ir (the reference interpreter over the IR, for comparison). .scb files "
+                   "always run on the VM.")
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as one JSON object.")
 @click.pass_context
 def command(ctx: click.Context, files: tuple[str, ...], world: str | None, until: int | None,
-            trace_path: str | None, robot: str, as_json: bool) -> None:
+            trace_path: str | None, robot: str, governor: bool | None, plot_path: str | None,
+            executor: str, as_json: bool) -> None:
     """Run scripts (.script, .json, .scb) as one session in simulated time.
 
     The files run one after the other, in the order given; the run ends when all have
@@ -126,6 +155,13 @@ def command(ctx: click.Context, files: tuple[str, ...], world: str | None, until
 
     if robot not in ROBOTS:
         raise CliError(f"unknown robot `{robot}` (known: {', '.join(sorted(ROBOTS))})")
+    if plot_path is not None and os.path.splitext(plot_path)[1].lower() not in (".png", ".svg"):
+        raise CliError(f"--plot `{plot_path}`: the file must end in .png or .svg")
+    if plot_path is not None:
+        import importlib.util
+
+        if importlib.util.find_spec("matplotlib") is None:
+            raise CliError("--plot needs matplotlib: pip install 'scriptc[plot]'")
     scenario = None
     if world is not None:
         try:
@@ -133,19 +169,38 @@ def command(ctx: click.Context, files: tuple[str, ...], world: str | None, until
         except ScenarioError as exc:
             write("".join(f"error: {line}\n" for line in exc.lines()), err=True)
             ctx.exit(2)
-    analyses, programs = _analyze(files)
+    analyses, programs = _analyze(files, executor)
     if any(a.diagnostics for a in analyses):
         show([a for a in analyses if a.diagnostics], err=True)
     if any(p is None for p in programs):
         ctx.exit(1)
-    trace = Trace(enabled=trace_path is not None)
-    session = Session(programs, scenario=scenario, robot=make_robot(robot), trace=trace,
-                      loader=_loader)
+    from scriptc.profile import profile_for
+
+    trace = Trace(enabled=trace_path is not None or plot_path is not None)
+    # The safety governor with the profile of the first file's repository (docs/robot.md).
+    if governor is None:
+        governor = robot != "kinematic"
+    profile = profile_for(files[0]) if governor else None
+    try:
+        robot_backend = make_robot(robot)
+    except Exception as exc:  # noqa: BLE001 - a backend that cannot start (mujoco missing)
+        raise CliError(f"robot `{robot}` cannot start: {exc}") from None
+    recorder = None
+    if plot_path is not None:
+        from scriptc.runtime.plot import PathRecorder
+
+        robot_backend = recorder = PathRecorder(robot_backend)
+    session = Session(programs, scenario=scenario, robot=robot_backend, trace=trace,
+                      loader=lambda path: _loader(path, executor), profile=profile)
     # Scripts may loop forever: without --until, a run stops after an hour of simulated time.
     result = session.run(until if until is not None else DEFAULT_LIMIT_MS)
     capped = until is None and result.outcome == "until"
     if trace_path is not None:
         write_output(trace_path, trace.text())
+    if plot_path is not None:
+        from scriptc.runtime.plot import plot_run
+
+        plot_run(trace.events, plot_path, recorder.samples, scenario)
     to_stderr = trace_path == "-"
     shown_path = None if trace_path in (None, "-") else trace_path
     if as_json:

@@ -14,6 +14,7 @@ links keep working. Families:
 - R  the rule grammar (conditions)  - A  audio tracks
 - J  thesis JSON input (`scriptc check`, `scriptc decompile`)
 - C  configuration (`scriptc.toml`, `[tool.scriptc]`) and suppression comments
+- K  safety against the robot profile (speeds, flashing LEDs)
 """
 
 from __future__ import annotations
@@ -107,6 +108,9 @@ _CODES = (
     Code("C004", "invalid-code", W, "a code that does not exist, or an error code, in a suppression or the configuration"),
     Code("C005", "invalid-config-file", E, "a configuration file that is not valid TOML"),
     Code("C006", "invalid-suppression", W, "a `scriptc:` comment that is not a suppression scriptc understands"),
+    # K: safety against the robot profile (check/safety.py, docs/robot.md)
+    Code("K001", "speed-beyond-profile", W, "a move faster than the robot profile allows (the governor slows it down)"),
+    Code("K002", "led-flashing", E, "LEDs flashing faster than the profile allows (3 Hz: a seizure risk, WCAG 2.3.1)"),
 )
 
 REGISTRY: dict[str, Code] = {c.code: c for c in _CODES}

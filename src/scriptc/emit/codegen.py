@@ -5,7 +5,8 @@ Each block becomes a run of instructions, in the order of the script:
 
 - instruction block: MOVE/LED/AUDIO per command (numbers as constants that keep the written
   text, times as u32), then ISSUE, NEXT_BLOCK;
-- jump block: COND (its handler is the false exit), the assignments left to right, the
+- jump block: COND (its handler is the false exit; its text the condition's canonical text,
+  which the VM reports with the jump), the assignments left to right, the
   evaluations left to right, the true exit; then the false exit. An exit is GOTO to the
   labelled block, or NEXT_BLOCK for an empty target. A CLASS assignment is FIND, NEXT_CANDIDATE,
   each test followed by JUMP_IF_FALSE back to NEXT_CANDIDATE, then BIND; a VAR assignment is
@@ -34,6 +35,7 @@ from itertools import starmap
 from scriptc.bytecode.code import Assembler, Label
 from scriptc.bytecode.encode import encode
 from scriptc.bytecode.program import Action, Block, CodeSpan, Goal, Message, Num, Program
+from scriptc.emit.condition import condition_text
 from scriptc.ir.nodes import (
     AliasRef,
     AttAssignment,
@@ -290,7 +292,7 @@ class _Codegen:
         condition: Condition = block.condition
         false_exit = Label()
         asm.mark(*condition.span)
-        asm.emit("COND", false_exit)
+        asm.emit("COND", false_exit, self.text(condition_text(condition)))
         reached_true = condition.bare_true
         if not reached_true:
             for assignment in condition.assignments:

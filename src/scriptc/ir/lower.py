@@ -21,7 +21,7 @@ from scriptc.gcpause import gc_paused
 from scriptc.ir import nodes as ir
 from scriptc.ir.values import read_number
 from scriptc.source import SourceFile, Span
-from scriptc.syntax.parser import parse_condition_tree, parse_items
+from scriptc.syntax.parser import ParsedScript, parse_condition_tree, parse_items
 
 MOVE_FIELDS = ("v_x", "v_y", "v_theta", "wait_t", "duration")
 LED_FIELDS = ("r", "g", "b", "turnas", "wait_t", "duration")
@@ -101,8 +101,10 @@ class _Lowerer:
 
     # -- the script -----------------------------------------------------------------------
 
-    def script(self, source: SourceFile) -> ir.Script | None:
-        parsed = parse_items(source.text)
+    def script(self, source: SourceFile, parsed: ParsedScript | None = None) -> ir.Script | None:
+        """Lower the items of `source` (parsed here, unless `parsed`, the parse of this same
+        text, is given)."""
+        parsed = parsed if parsed is not None else parse_items(source.text)
         self.diagnostics.extend(parsed.diagnostics)
         # When items were lost to syntax errors, "this goal has no action" and the like would
         # report the loss again, not a mistake of the script's structure.

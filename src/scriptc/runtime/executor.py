@@ -1,7 +1,8 @@
 """The executor interface: one loaded script's block reading, and nothing else.
 
 An executor is what differs between running a script from the IR (`interp.IRExecutor`, the
-executable spec) and from verified bytecode (a VM, later). Everything else — the clock, the
+executable spec) and from verified bytecode (`vm.VMExecutor`, the one `scriptc run` uses; the
+two must write the same trace). Everything else — the clock, the
 map, the rules, the actuators, the robot, goal records, the LIFO queue, traces — is the
 session's and is shared. An executor:
 

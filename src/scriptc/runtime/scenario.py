@@ -63,6 +63,10 @@ class Scenario:
     updates: list[TimedUpdate] = field(default_factory=list)
     operator: list[OperatorEvent] = field(default_factory=list)
     folder: str = ""  # where paths in the scenario (a `script_vect` update) are resolved from
+    # Placed people, objects and obstacles, sensed by the simulation (runtime/sensing.py).
+    entities: list = field(default_factory=list)  # of sensing.PlacedEntity
+    sensing_rate_hz: float = 10.0
+    sensing_range: float | None = None
 
 
 @cache
@@ -107,6 +111,14 @@ def scenario_from_data(data: Any, path: str = "<scenario>", folder: str | None =
     for i, item in enumerate(data.get("operator", ())):
         params = {k: v for k, v in item.items() if k not in ("at", "command")}
         scenario.operator.append(OperatorEvent(item["at"], item["command"], params, i))
+    if data.get("entities"):
+        from scriptc.runtime.sensing import PlacedEntity
+
+        for item in data["entities"]:
+            scenario.entities.append(PlacedEntity.from_data(item))
+    sensing = data.get("sensing", {})
+    scenario.sensing_rate_hz = float(sensing.get("rate_hz", 10.0))
+    scenario.sensing_range = sensing.get("range")
     if problems:
         raise ScenarioError(path, problems)
     scenario.updates.sort(key=lambda u: u.at)

@@ -34,7 +34,7 @@ from scriptc.runtime.clock import PRIO_OPERATOR, PRIO_UPDATE, EventQueue
 from scriptc.runtime.evaluate import EvalContext, Evaluation, evaluate
 from scriptc.runtime.executor import End, Executor, Issue, Program, ReadLimit, SeekError
 from scriptc.runtime.functions import STANDARD_IMPLEMENTATIONS, Implementations
-from scriptc.runtime.robots import Pose, Robot, make_robot
+from scriptc.runtime.robots import Pose, Robot, RobotFailure, make_robot
 from scriptc.runtime.rules import (
     STANDARD_RULES,
     RuleChain,
@@ -111,13 +111,30 @@ class Session:
                  rules: RuleLibrary = STANDARD_RULES, trace: Trace | None = None,
                  idle: Program | None = None, stop_when_done: bool = True,
                  catalogue: list[Program] | tuple[Program, ...] = (), loader=None,
-                 max_loops_per_instant: int = MAX_LOOPS_PER_INSTANT) -> None:
+                 max_loops_per_instant: int = MAX_LOOPS_PER_INSTANT,
+                 profile=None) -> None:
         self.max_loops = max_loops_per_instant
         self.world = World()
         self.bindings = Bindings()
         self.queue = EventQueue()
         self.trace = trace if trace is not None else Trace()
         self.robot = make_robot(robot) if isinstance(robot, str) else robot
+        # The safety governor (runtime/governor.py) when a robot profile is given, and the
+        # simulated sensing of the scenario's placed entities (runtime/sensing.py).
+        self.governor = None
+        if profile is not None:
+            from scriptc.runtime.governor import Governor
+
+            self.robot = self.governor = Governor(self.robot, profile, self.trace)
+        self.sensing = None
+        if scenario is not None and scenario.entities:
+            from scriptc.runtime.sensing import Sensing
+
+            self.sensing = Sensing(scenario.entities, scenario.sensing_rate_hz,
+                                   scenario.sensing_range)
+            if self.governor is not None:
+                self.governor.nearest = self.sensing.nearest_human
+        self._show_outputs = hasattr(self.robot, "set_led")
         self.actuators = Actuators(self.queue, self.robot, self.trace, self.world)
         self.actuators.on_consumed = self._consumed
         self.chain = RuleChain()
@@ -168,8 +185,27 @@ class Session:
                 self.queue.push(tu.at, PRIO_UPDATE, self._on_update, tu)
             for op in self.scenario.operator:
                 self.queue.push(op.at, PRIO_OPERATOR, self._on_operator, op)
+        if self.sensing is not None:
+            self.queue.push(0, PRIO_UPDATE, self._on_sense, None)
+        try:
+            self._loop(until)
+        except RobotFailure as exc:
+            self._fatal(self.now, "robot-unstable", str(exc))
+        try:
+            self.robot.advance(self.now)
+        except RobotFailure:
+            pass  # already reported
+        pose = self.robot.pose()
+        self.trace.emit(self.now, "session_end", outcome=self.outcome, time_ms=self.now,
+                        pose=pose.as_dict())
+        return Result(self.outcome, self.now, pose, self.loads, self.trace.errors,
+                      self.trace.count, self.trace)
+
+    def _loop(self, until: int | None) -> None:
         self._next_script(0)
         self._settle(0)
+        if self._show_outputs:
+            self._outputs()
         queue = self.queue
         while not self.done:
             t = queue.next_time()
@@ -188,12 +224,29 @@ class Session:
             if happened:
                 self.now = t
                 self._settle(t)
-        self.robot.advance(self.now)
-        pose = self.robot.pose()
-        self.trace.emit(self.now, "session_end", outcome=self.outcome, time_ms=self.now,
-                        pose=pose.as_dict())
-        return Result(self.outcome, self.now, pose, self.loads, self.trace.errors,
-                      self.trace.count, self.trace)
+                if self._show_outputs:
+                    self._outputs()
+
+    def _outputs(self) -> None:
+        """The LEDs and the speaker into a robot model that shows them (MuJoCo's materials)."""
+        self.robot.set_led(self.actuators.led)
+        self.robot.set_audio(self.actuators.audio)
+
+    def _on_sense(self, now: int, _arg) -> bool:
+        """Simulated sensing (runtime/sensing.py): where the placed entities are relative to
+        the robot the physics moved, as `poses` updates; then the next reading."""
+        self.now = now
+        robot = self.robot
+        robot.advance(now)
+        pose = robot.pose()
+        for objectid, rho, theta in self.sensing.read(now, pose):
+            update = parse_update(objectid, "poses", "R",
+                                  {"positionrho": rho, "positiontheta": theta})
+            self._post(now, update, "sensing")
+        if self.governor is not None:
+            self.governor.recheck(now)
+        self.queue.push(now + self.sensing.period, PRIO_UPDATE, self._on_sense, None)
+        return True
 
     def _settle(self, now: int) -> None:
         for _ in range(self.max_loops):

@@ -16,7 +16,7 @@ from typing import Any
 EVENT_KINDS = (
     "session_start", "script_load", "script_unload", "rule", "mutex", "block", "cmd_start",
     "cmd_stop", "block_done", "jump", "sensor", "terminus", "goal", "update", "operator",
-    "velocity", "rule_note", "override", "error", "session_end",
+    "velocity", "rule_note", "override", "governor", "error", "session_end",
 )
 
 

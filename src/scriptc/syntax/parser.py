@@ -25,7 +25,7 @@ from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit, diagnost
 from scriptc.resources import grammar_path
 from scriptc.source import Span
 from scriptc.syntax.lexer import ContextualFastLexer
-from scriptc.syntax.scan import scan
+from scriptc.syntax.scan import Scan, scan
 
 
 MAX_SYNTAX_ERRORS = 100
@@ -69,9 +69,13 @@ def condition_parser() -> Lark:
     return _build("condition.lark", ["condition"])
 
 
-def parse_items(text: str) -> ParsedScript:
-    scanned = scan(text)
-    parser = script_parser()
+def parse_items(text: str, *, scanned: Scan | None = None, parser: Lark | None = None
+                ) -> ParsedScript:
+    """Scan `text` (or take `scanned`, the scan of this same text) and parse each item with
+    `parser` (default: the lark parser of grammar/script.lark). The language server passes a
+    parser that answers from its cache of item texts (scriptc.ide.incremental)."""
+    scanned = scanned if scanned is not None else scan(text)
+    parser = parser if parser is not None else script_parser()
     items: list[ParsedItem] = []
     diagnostics = list(scanned.diagnostics)
     for raw in scanned.items:

@@ -6,8 +6,9 @@ A backend implements `Robot`: `set_velocity(t_ms, v_x, v_y, v_theta)` (body-fram
 so a full turn reads 2π). Times only grow; the session calls `set_velocity` only when the
 effective velocity changes, so a backend sees O(events) calls, never one per millisecond.
 
-Backends by name (`--robot NAME`): `kinematic` (exact integration, `kinematic.py`). A MuJoCo
-backend comes next and plugs in here (`ROBOTS`), importing mujoco only in its own module.
+Backends by name (`--robot NAME`): `mujoco` (the physics of the Teo/Oimi model, `mujoco.py`,
+the default of `scriptc run`; docs/robot.md) and `kinematic` (exact integration,
+`kinematic.py`). Only `mujoco.py` imports mujoco, and only when that backend is made.
 """
 
 from __future__ import annotations
@@ -38,11 +39,17 @@ class Robot(Protocol):
 # name -> "module:class"
 ROBOTS: dict[str, str] = {
     "kinematic": "scriptc.runtime.robots.kinematic:KinematicRobot",
+    "mujoco": "scriptc.runtime.robots.mujoco:MujocoRobot",
 }
 
 
 class UnknownRobot(ValueError):
     pass
+
+
+class RobotFailure(RuntimeError):
+    """The backend cannot go on (the physics became unstable): the session reports it as the
+    fatal run-time error `robot-unstable`."""
 
 
 def make_robot(name: str) -> Robot:

@@ -1,0 +1,131 @@
+"""The MuJoCo robot: the simulated Teo/Oimi base (`teo.xml`, shipped in this package) driven by
+body-frame velocities (docs/robot.md). The only module of scriptc that imports `mujoco`
+(the `mujoco-core` package: the physics, without a viewer or GL; it runs headless).
+
+Stepping (RUNTIME.md, "The simulated robot"): the session calls `set_velocity` only when the
+velocity changes, so the control is written once per change and `advance` steps all the
+physics steps up to the requested time in one `mj_step(model, data, nstep=n)` call. The
+model's timestep is 1 ms, so every duration of a script (whole milliseconds) lands on a whole
+number of steps; the step count is integer arithmetic, never a rounded float. A move that is
+consumed sets the velocity to zero (the actuators do it), and the velocity actuators (time
+constant 0.1 ms) stop the base within a step.
+
+MuJoCo does not raise on a numerical blow-up: it prints a warning and resets the state (or
+zeroes a bad control). After every batch of steps the warning counters are compared with the
+previous ones; any new warning raises `RobotFailure`, which the session reports as the fatal
+run-time error `robot-unstable`.
+"""
+
+from __future__ import annotations
+
+import copy
+from functools import cache
+from importlib import resources
+
+import mujoco
+
+from scriptc.runtime.robots import Pose, RobotFailure
+
+MODEL_NAME = "teo.xml"
+
+# MuJoCo's warnings go to stdout and to a MUJOCO_LOG.TXT in the current directory by default;
+# scriptc keeps the last ones instead and reports them in the run's `robot-unstable` error.
+_WARNINGS: list[str] = []
+
+
+def _on_warning(message: str) -> None:
+    del _WARNINGS[:-9]
+    _WARNINGS.append(message.strip())
+
+
+mujoco.set_mju_user_warning(_on_warning)
+
+
+@cache
+def model_xml() -> str:
+    return resources.files("scriptc.runtime.robots").joinpath(MODEL_NAME).read_text("utf-8")
+
+
+@cache
+def load_model() -> mujoco.MjModel:
+    """The compiled model (compiled once per process; each robot gets its own MjData)."""
+    return mujoco.MjModel.from_xml_string(model_xml())
+
+
+class MujocoRobot:
+    name = "mujoco"
+
+    def __init__(self, model: mujoco.MjModel | None = None) -> None:
+        # A copy per robot: the LED materials change during a run (physics is unaffected).
+        self.model = copy.copy(model if model is not None else load_model())
+        self.data = mujoco.MjData(self.model)
+        steps = 0.001 / self.model.opt.timestep
+        self.steps_per_ms = int(round(steps))
+        if self.steps_per_ms < 1 or abs(steps - self.steps_per_ms) > 1e-9:
+            raise ValueError("the model's timestep must divide 1 ms")
+        self._t = 0  # ms simulated so far
+        self._v = (0.0, 0.0, 0.0)
+        self._warnings = 0
+        m = self.model
+        self._qx = m.jnt_qposadr[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, "x")]
+        self._qy = m.jnt_qposadr[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, "y")]
+        self._qyaw = m.jnt_qposadr[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, "yaw")]
+        self._leds = [mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_MATERIAL, name)
+                      for name in ("led_left", "led_right")]
+        self._led_off = [tuple(m.mat_rgba[i]) for i in self._leds]
+        self.audio: str | None = None
+        self.steps = 0  # physics steps taken (the benchmark reports it)
+
+    # -- the Robot interface ----------------------------------------------------------------
+
+    def set_velocity(self, t_ms: int, v_x: float, v_y: float, v_theta: float) -> None:
+        self.advance(t_ms)
+        self._v = (float(v_x), float(v_y), float(v_theta))
+        self.data.ctrl[:] = self._v
+
+    def advance(self, t_ms: int) -> None:
+        if t_ms <= self._t:
+            return
+        n = (t_ms - self._t) * self.steps_per_ms
+        mujoco.mj_step(self.model, self.data, nstep=n)
+        self.steps += n
+        self._t = t_ms
+        warnings = int(self.data.warning.number.sum())
+        if warnings != self._warnings:
+            self._warnings = warnings
+            raise RobotFailure(self._describe_warnings(t_ms))
+
+    def pose(self) -> Pose:
+        q = self.data.qpos
+        return Pose(float(q[self._qx]), float(q[self._qy]), float(q[self._qyaw]))
+
+    # -- beyond the interface ---------------------------------------------------------------
+
+    @property
+    def velocity(self) -> tuple[float, float, float]:
+        return self._v
+
+    @property
+    def time_ms(self) -> int:
+        return self._t
+
+    def set_led(self, rgb: tuple[float, float, float] | None) -> None:
+        """Both LED strips show `rgb` (None: off); visible in the model's materials."""
+        for i, off in zip(self._leds, self._led_off):
+            self.model.mat_rgba[i] = off if rgb is None else (*rgb, 1.0)
+
+    def led_rgba(self) -> tuple[float, ...]:
+        return tuple(float(c) for c in self.model.mat_rgba[self._leds[0]])
+
+    def set_audio(self, track: str | None) -> None:
+        """The speaker: audio is state (what plays), not sound."""
+        self.audio = track
+
+    def _describe_warnings(self, t_ms: int) -> str:
+        members = mujoco.mjtWarning.__members__
+        names = sorted((k for k in members if k != "mjNWARNING"), key=lambda k: int(members[k]))
+        found = [f"{name.removeprefix('mjWARN_')} x{int(self.data.warning[i].number)}"
+                 for i, name in enumerate(names) if self.data.warning[i].number]
+        last = f": {_WARNINGS[-1]}" if _WARNINGS else ""
+        return (f"the physics became unstable by {t_ms} ms (MuJoCo warned "
+                f"{', '.join(found)}{last}; it resets the state instead of failing)")

@@ -1,0 +1,375 @@
+"""All conversion between the editor API (`scriptc.ide`: offsets, plain data) and the protocol
+(`lsprotocol` types: lines and UTF-16 columns). Nothing else in scriptc computes an LSP
+position or builds an LSP type; the handlers of `scriptc.server.main` call these functions.
+
+Positions: the protocol counts UTF-16 code units within a line; scriptc counts code points
+in the whole text. A character outside the Basic Multilingual Plane (an emoji) is one code
+point and two units. Incoming positions are clamped as the protocol says (a character past
+the end of its line means the end of the line; a line past the last means the end of the
+text); a position between the two halves of a surrogate pair is kept exact when it comes
+with an edit (`change_to_edit`), and rounded down to the start of the character otherwise.
+"""
+
+from __future__ import annotations
+
+from lsprotocol import types as lsp
+
+from scriptc.diagnostics.model import Diagnostic, Severity, TextEdit
+from scriptc.ide import model
+from scriptc.ide.layout import IDENTITY, Layout
+from scriptc.ide.tokens import MODIFIERS, TYPES
+from scriptc.source import SourceFile, Span
+
+SOURCE = "scriptc"
+
+_SEVERITY = {
+    Severity.ERROR: lsp.DiagnosticSeverity.Error,
+    Severity.WARNING: lsp.DiagnosticSeverity.Warning,
+    Severity.INFO: lsp.DiagnosticSeverity.Information,
+}
+# Codes whose span is code that never runs: editors fade it.
+_UNNECESSARY = {"F001"}
+
+_COMPLETION_KIND = {
+    "keyword": lsp.CompletionItemKind.Keyword,
+    "item": lsp.CompletionItemKind.Keyword,
+    "label": lsp.CompletionItemKind.Reference,
+    "class": lsp.CompletionItemKind.Class,
+    "field": lsp.CompletionItemKind.Field,
+    "function": lsp.CompletionItemKind.Function,
+    "scope": lsp.CompletionItemKind.EnumMember,
+    "rule": lsp.CompletionItemKind.Event,
+    "operator": lsp.CompletionItemKind.Operator,
+    "letter": lsp.CompletionItemKind.EnumMember,
+    "snippet": lsp.CompletionItemKind.Snippet,
+    "variable": lsp.CompletionItemKind.Variable,
+}
+_SYMBOL_KIND = {
+    "activity": lsp.SymbolKind.Module,
+    "message": lsp.SymbolKind.Event,
+    "goal": lsp.SymbolKind.Namespace,
+    "action": lsp.SymbolKind.Method,
+    "block": lsp.SymbolKind.Function,
+}
+_FOLD_KIND = {"region": lsp.FoldingRangeKind.Region, "comment": lsp.FoldingRangeKind.Comment}
+_TYPE_INDEX = {name: i for i, name in enumerate(TYPES)}
+_MODIFIER_BIT = {name: 1 << i for i, name in enumerate(MODIFIERS)}
+
+class Json:
+    """A result already in the protocol's JSON form (dicts, lists, numbers, strings): the
+    server sends it as it is (see `scriptc.server.main.Protocol`)."""
+
+    __slots__ = ("value",)
+
+    def __init__(self, value) -> None:
+        self.value = value
+
+
+LEGEND = lsp.SemanticTokensLegend(token_types=list(TYPES), token_modifiers=list(MODIFIERS))
+
+
+# -- positions ------------------------------------------------------------------------------------
+
+
+def _units(text: str) -> int:
+    """The length of `text` in UTF-16 code units."""
+    if text.isascii():
+        return len(text)
+    return len(text) + sum(1 for ch in text if ord(ch) > 0xFFFF)
+
+
+class Positions:
+    """Offsets <-> protocol positions for one document. Offsets are those of a snapshot (its
+    analysis text, see `scriptc.ide.layout`), converted through `layout` to offsets of the
+    document's text, whose lines and UTF-16 columns the protocol counts. Lines of ASCII text
+    (the usual case) need no counting: their UTF-16 column is the distance from the line's
+    start."""
+
+    def __init__(self, source: SourceFile, layout: Layout = IDENTITY) -> None:
+        self.source = source  # the document's text
+        self.layout = layout
+        self.text = source.text
+        self.ascii = self.text.isascii()
+
+    def position(self, offset: int) -> lsp.Position:
+        return self._position(self.layout.to_real(offset))
+
+    def _position(self, offset: int) -> lsp.Position:
+        source = self.source
+        offset = max(0, min(offset, len(self.text)))
+        line = source.line_of(offset)
+        start = source.line_starts[line]
+        if self.ascii:
+            return lsp.Position(line, offset - start)
+        return lsp.Position(line, _units(self.text[start:offset]))
+
+    def range(self, span: Span) -> lsp.Range:
+        return lsp.Range(self.position(span.start), self.position(span.end))
+
+    def locate(self, position: lsp.Position) -> tuple[int, bool]:
+        """The document offset of a protocol position, and whether it falls between the two
+        halves of a surrogate pair (then the offset is that of the character it splits)."""
+        source = self.source
+        starts = source.line_starts
+        line, character = position.line, position.character
+        if line < 0:
+            return 0, False
+        if line >= len(starts):
+            return len(self.text), False
+        start = starts[line]
+        end = source.line_end(line)
+        if self.ascii:
+            return min(start + max(character, 0), end), False
+        text = self.text
+        units = 0
+        offset = start
+        while offset < end and units < character:
+            units += 2 if ord(text[offset]) > 0xFFFF else 1
+            offset += 1
+        if units > character:
+            return offset - 1, True
+        return offset, False
+
+    def offset(self, position: lsp.Position) -> int:
+        """The snapshot offset of a protocol position."""
+        return self.layout.to_analysis(self.locate(position)[0])
+
+    def span(self, range_: lsp.Range) -> Span:
+        a, b = self.offset(range_.start), self.offset(range_.end)
+        return Span(min(a, b), max(a, b))
+
+
+def positions(snapshot) -> Positions:
+    """The converter of a snapshot's offsets, made once per snapshot."""
+    found = snapshot.__dict__.get("_lsp_positions")
+    if found is None:
+        found = snapshot.__dict__["_lsp_positions"] = Positions(snapshot.real_source,
+                                                                snapshot.layout)
+    return found
+
+
+def text_positions(source: SourceFile) -> Positions:
+    """The converter of a plain text (no layout): for edits to a document's text."""
+    found = source.__dict__.get("_lsp_positions")
+    if found is None:
+        found = source.__dict__["_lsp_positions"] = Positions(source)
+    return found
+
+
+def change_to_edit(source: SourceFile, range_: lsp.Range, new_text: str) -> tuple[int, int, str]:
+    """An incremental change as `(start, end, new_text)` in code points. An end of the range
+    between the halves of a surrogate pair widens the edit to the whole character and keeps
+    the half that stays, so the result is what the client's UTF-16 text becomes."""
+    p = text_positions(source)
+    start, start_split = p.locate(range_.start)
+    end, end_split = p.locate(range_.end)
+    if (end, end_split) < (start, start_split):
+        start, start_split, end, end_split = end, end_split, start, start_split
+    prefix = suffix = ""
+    if start_split:
+        prefix = _halves(source.text[start])[0]
+    if end_split:
+        suffix = _halves(source.text[end])[1]
+        end += 1
+    return start, end, prefix + new_text + suffix
+
+
+def _halves(ch: str) -> tuple[str, str]:
+    units = ch.encode("utf-16-le", "surrogatepass")
+    return (units[:2].decode("utf-16-le", "surrogatepass"),
+            units[2:].decode("utf-16-le", "surrogatepass"))
+
+
+# -- diagnostics ------------------------------------------------------------------------------------
+
+
+def diagnostic(p: Positions, uri: str, d: Diagnostic) -> lsp.Diagnostic:
+    """The protocol's diagnostic: the code and message the CLI prints; labels as related
+    locations; notes and help as related information at the diagnostic itself (editors list
+    them under the message). No `codeDescription`: the codes have no public page, and a
+    hover on a code, or the `scriptc.explain` command, gives the explanation."""
+    primary = p.range(d.span)
+    related = [lsp.DiagnosticRelatedInformation(lsp.Location(uri, p.range(label.span)), label.message)
+               for label in d.labels]
+    related += [lsp.DiagnosticRelatedInformation(lsp.Location(uri, primary), f"note: {note}")
+                for note in d.notes]
+    if d.help:
+        related.append(lsp.DiagnosticRelatedInformation(lsp.Location(uri, primary), f"help: {d.help}"))
+    return lsp.Diagnostic(
+        range=primary,
+        message=d.message,
+        severity=_SEVERITY[d.severity],
+        code=d.code,
+        source=SOURCE,
+        related_information=related or None,
+        tags=[lsp.DiagnosticTag.Unnecessary] if d.code in _UNNECESSARY else None,
+    )
+
+
+def diagnostics(p: Positions, uri: str, items: list[Diagnostic]) -> list[lsp.Diagnostic]:
+    return [diagnostic(p, uri, d) for d in items]
+
+
+# -- edits ----------------------------------------------------------------------------------------
+
+
+def text_edits(p: Positions, edits) -> list[lsp.TextEdit]:
+    return [lsp.TextEdit(p.range(e.span), e.new_text) for e in edits]
+
+
+def workspace_edit(p: Positions, uri: str, edits) -> lsp.WorkspaceEdit:
+    return lsp.WorkspaceEdit(changes={uri: text_edits(p, edits)})
+
+
+# -- features ---------------------------------------------------------------------------------------
+
+
+def hover(p: Positions, h: model.Hover | None) -> lsp.Hover | None:
+    if h is None:
+        return None
+    return lsp.Hover(lsp.MarkupContent(lsp.MarkupKind.Markdown, h.markdown), p.range(h.span))
+
+
+def _json_range(r: lsp.Range) -> dict:
+    return {"start": {"line": r.start.line, "character": r.start.character},
+            "end": {"line": r.end.line, "character": r.end.character}}
+
+
+def completion_list(p: Positions, items: list[model.CompletionItem], snippets: bool,
+                    markdown: bool = True) -> Json:
+    """A CompletionList, in JSON form (a large script has hundreds of labels to propose).
+    Documentation is markdown when the client says it reads markdown, else plain text."""
+    out = []
+    ranges: dict[Span, dict] = {}
+    for item in items:
+        r = ranges.get(item.span)
+        if r is None:
+            r = ranges[item.span] = _json_range(p.range(item.span))
+        use_snippet = snippets and item.snippet is not None
+        entry = {"label": item.label,
+                 "textEdit": {"range": r, "newText": item.snippet if use_snippet
+                              else (item.insert_text or item.label)}}
+        kind = _COMPLETION_KIND.get(item.kind)
+        if kind is not None:
+            entry["kind"] = int(kind)
+        if item.detail:
+            entry["detail"] = item.detail
+        if item.documentation:
+            entry["documentation"] = ({"kind": "markdown", "value": item.documentation}
+                                      if markdown else item.documentation)
+        if item.sort_text is not None:
+            entry["sortText"] = item.sort_text
+        if use_snippet:
+            entry["insertTextFormat"] = int(lsp.InsertTextFormat.Snippet)
+        out.append(entry)
+    return Json({"isIncomplete": False, "items": out})
+
+
+def locations(p: Positions, uri: str, spans: list[Span]) -> list[lsp.Location]:
+    return [lsp.Location(uri, p.range(s)) for s in spans]
+
+
+def document_symbols(p: Positions, symbols: list[model.Symbol]) -> list[lsp.DocumentSymbol]:
+
+    def one(s: model.Symbol) -> lsp.DocumentSymbol:
+        return lsp.DocumentSymbol(
+            name=s.name or "?",
+            kind=_SYMBOL_KIND.get(s.kind, lsp.SymbolKind.Object),
+            range=p.range(s.span),
+            selection_range=p.range(s.selection),
+            detail=s.detail or None,
+            children=[one(c) for c in s.children] or None,
+        )
+
+    return [one(s) for s in symbols]
+
+
+def folding_ranges(p: Positions, folds: list[model.Fold]) -> list[lsp.FoldingRange]:
+    out = []
+    seen: set[int] = set()
+    for f in folds:
+        start = p.position(f.span.start).line
+        end = p.position(max(f.span.start, f.span.end - 1)).line
+        if end <= start or start in seen:
+            continue
+        seen.add(start)
+        out.append(lsp.FoldingRange(start_line=start, end_line=end, kind=_FOLD_KIND.get(f.kind)))
+    return out
+
+
+def semantic_tokens(p: Positions, tokens: list[model.SemanticToken]) -> Json:
+    """The protocol's relative encoding: per token, the line delta, the start delta (UTF-16,
+    from the previous token on the same line), the length, the type and the modifier bits.
+    Tokens over several lines (comments) are cut at line ends. Tokens come in text order, so
+    the line is found by walking forward, not searched for each token."""
+    source = p.source
+    text = source.text
+    starts = source.line_starts
+    lines = len(starts)
+    to_real = p.layout.to_real
+    identity = p.layout.identity
+    ascii_ = p.ascii
+    data: list[int] = []
+    last_line = last_col = 0
+    line = 0
+    bits_of: dict[tuple[str, ...], int] = {}
+    for token in tokens:
+        type_index = _TYPE_INDEX.get(token.type)
+        if type_index is None:
+            continue
+        bits = bits_of.get(token.modifiers)
+        if bits is None:
+            bits = 0
+            for m in token.modifiers:
+                bits |= _MODIFIER_BIT.get(m, 0)
+            bits_of[token.modifiers] = bits
+        start, end = token.span
+        if not identity:
+            start, end = to_real(start), to_real(end)
+        while line + 1 < lines and starts[line + 1] <= start:
+            line += 1
+        if line + 1 >= lines or end < starts[line + 1]:  # on one line (the usual case)
+            if ascii_:
+                col, length = start - starts[line], end - start
+            else:
+                col, length = _units(text[starts[line]:start]), _units(text[start:end])
+            data += (line - last_line, col - last_col if line == last_line else col, length,
+                     type_index, bits)
+            last_line, last_col = line, col
+            continue
+        piece_line = line
+        while start < end:
+            piece_end = min(end, source.line_end(piece_line))
+            if piece_end > start:
+                col = _units(text[starts[piece_line]:start])
+                data += (piece_line - last_line, col - last_col if piece_line == last_line else col,
+                         _units(text[start:piece_end]), type_index, bits)
+                last_line, last_col = piece_line, col
+            piece_line += 1
+            if piece_line >= lines:
+                break
+            start = max(start, starts[piece_line])
+    return Json({"data": data})
+
+
+_CODE_ACTION_KIND = {"quickfix": lsp.CodeActionKind.QuickFix,
+                     "source.fixAll": lsp.CodeActionKind.SourceFixAll}
+
+
+def code_actions(p: Positions, uri: str, actions: list[model.CodeAction]) -> list[lsp.CodeAction]:
+    return [lsp.CodeAction(
+        title=a.title,
+        kind=_CODE_ACTION_KIND.get(a.kind, a.kind),
+        diagnostics=diagnostics(p, uri, list(a.diagnostics)) or None,
+        is_preferred=a.preferred or None,
+        edit=workspace_edit(p, uri, a.edits),
+    ) for a in actions]
+
+
+def inlay_hints(p: Positions, hints: list[model.InlayHint]) -> list[lsp.InlayHint]:
+    return [lsp.InlayHint(position=p.position(h.offset), label=h.label, padding_left=True,
+                          tooltip=h.tooltip or None) for h in hints]
+
+
+def text_edit_list(p: Positions, edits: list[TextEdit] | None) -> list[lsp.TextEdit] | None:
+    return None if edits is None else text_edits(p, edits)

@@ -1,0 +1,501 @@
+"""`scriptc lsp`: the language server, a thin pygls shell over `scriptc.ide`.
+
+Each handler gets the document, calls one function of the editor API with offsets, and
+converts the answer back (`scriptc.server.convert`); none holds logic of its own.
+
+Decisions:
+
+- **Documents are scriptc's own** (`scriptc.ide.document.Document`), not pygls's workspace:
+  the builtin open/change/close handlers are replaced (`Protocol`) so that an edit is applied
+  once, with the protocol's line breaks (pygls splits lines on `\\f`, `\\v`, U+2028... too)
+  and with ranges that the protocol allows but pygls mishandles (past the end, between the
+  halves of a surrogate pair) clamped or kept exact.
+- **Diagnostics** are analysed right after the changes received so far, without debounce
+  (a keystroke in a 90 KB script costs 15-25 ms, see bench/bench_lsp.py: a timer would only
+  add latency), and pushed; a burst of changes already waiting is analysed once, at its end
+  (`ScriptcServer.publish`). A client that can pull diagnostics (`textDocument/diagnostic`)
+  pulls them instead, so that no editor shows them twice;
+  `initializationOptions: {"diagnostics": "push" | "pull" | "both"}` overrides this. Pull
+  requests are answered in every mode.
+- **The repository's configuration** applies as in `scriptc lint`: the functions a
+  `scriptc.toml` declares and its policy (selection, per-file ignores, severities), read when
+  the document is opened.
+- **No `codeDescription`** on diagnostics: the codes have no public page, and a `command:`
+  link works in VS Code only. A hover on a code (in a suppression comment, say) shows its
+  explanation, and the command `scriptc.explain CODE` returns it as markdown.
+- **The garbage collector** is off while the server runs: the trees and IR of a large
+  document are acyclic, and collections rescanning them after every keystroke cost 10-30 ms.
+  Each analysis's survivors are frozen (`gc.freeze`), and a full collection runs when the
+  server has been idle for a few seconds.
+- **stdin is read through an asyncio pipe** (pygls reads it in a thread, three hand-offs per
+  message), and results already in JSON form (`convert.Json`) skip pygls's cattrs pass.
+- **Nothing goes to stdout** but the protocol: `serve` points `sys.stdout` at stderr before
+  anything runs; logging goes to stderr.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import gc
+import logging
+import sys
+import threading
+
+from lsprotocol import types as lsp
+from pygls.exceptions import JsonRpcException
+from pygls.lsp.server import LanguageServer
+from pygls.protocol import LanguageServerProtocol, lsp_method
+from pygls.protocol.json_rpc import JsonRPCResponseMessage
+
+from scriptc import __version__
+from scriptc.ide import actions, completion, formatting, hints, hover, navigation, outline, tokens
+from scriptc.ide.document import Document
+from scriptc.ide.model import RenameError
+from scriptc.server import convert
+from scriptc.source import SourceFile
+
+log = logging.getLogger("scriptc.server")
+
+# How long the server waits without a change before running a full garbage collection.
+IDLE_COLLECT_SECONDS = 5.0
+REQUEST_FAILED = -32803  # the protocol's RequestFailed: the request was valid but failed
+
+
+class Protocol(LanguageServerProtocol):
+    """pygls's protocol, with text synchronisation left to the server's own documents, and
+    results already in JSON form (`convert.Json`: completion lists, semantic tokens) sent as
+    they are: pygls would otherwise walk them with cattrs, which costs more than computing
+    them (10 ms for the 560 labels of a large script)."""
+
+    def _serialize_message(self, data):
+        if isinstance(data, JsonRPCResponseMessage) and isinstance(data.result, convert.Json):
+            return {"id": data.id, "jsonrpc": data.jsonrpc, "result": data.result.value}
+        return super()._serialize_message(data)
+
+    @lsp_method(lsp.TEXT_DOCUMENT_DID_OPEN)
+    def lsp_text_document__did_open(self, params):
+        if (handler := self.fm.features.get(lsp.TEXT_DOCUMENT_DID_OPEN)) is not None:
+            yield handler, (params,), None
+
+    @lsp_method(lsp.TEXT_DOCUMENT_DID_CHANGE)
+    def lsp_text_document__did_change(self, params):
+        if (handler := self.fm.features.get(lsp.TEXT_DOCUMENT_DID_CHANGE)) is not None:
+            yield handler, (params,), None
+
+    @lsp_method(lsp.TEXT_DOCUMENT_DID_CLOSE)
+    def lsp_text_document__did_close(self, params):
+        if (handler := self.fm.features.get(lsp.TEXT_DOCUMENT_DID_CLOSE)) is not None:
+            yield handler, (params,), None
+
+
+class ScriptcServer(LanguageServer):
+    def __init__(self) -> None:
+        super().__init__("scriptc", __version__, protocol_cls=Protocol,
+                         text_document_sync_kind=lsp.TextDocumentSyncKind.Incremental)
+        self.documents: dict[str, Document] = {}
+        self.push = True  # push diagnostics (pull requests are answered in any case)
+        self.snippets = False
+        # The client's formats for completion documentation (LSP `documentationFormat`).
+        self.markdown_docs = False
+        self._idle: asyncio.TimerHandle | None = None
+        self._dirty: dict[str, Document] = {}  # documents whose diagnostics are due
+
+    # -- documents ---------------------------------------------------------------------------
+
+    def document(self, uri: str) -> Document | None:
+        return self.documents.get(uri)
+
+    def snapshot(self, uri: str):
+        doc = self.documents.get(uri)
+        return None if doc is None else self.analysed(doc)
+
+    def analysed(self, doc: Document):
+        """The document's snapshot, analysed now if it changed, with the garbage collector
+        kept off the new objects (see the module docstring)."""
+        if doc.analysed:
+            return doc.snapshot()
+        try:
+            snapshot = doc.snapshot()
+        except Exception:  # noqa: BLE001 - a bug must not cost the user the session
+            log.exception("incremental analysis failed on %s; analysing afresh", doc.uri)
+            doc.reset_analyzer()
+            snapshot = doc.snapshot()
+        gc.freeze()
+        self._schedule_collect()
+        return snapshot
+
+    def _schedule_collect(self) -> None:
+        try:
+            loop = asyncio.get_running_loop()
+        except RuntimeError:
+            return
+        if self._idle is not None:
+            self._idle.cancel()
+        self._idle = loop.call_later(IDLE_COLLECT_SECONDS, _collect)
+
+    def publish(self, doc: Document) -> None:
+        """Push the document's diagnostics as soon as the messages already received are
+        handled: a burst of changes (a paste, a fast typist, a replay) is analysed once, at
+        its end, and a lone change at once (no timer, no added latency)."""
+        if not self.push:
+            return
+        first = not self._dirty
+        self._dirty[doc.uri] = doc
+        if not first:
+            return
+        try:
+            asyncio.get_running_loop().call_soon(self._flush)
+        except RuntimeError:  # no event loop (handlers called directly)
+            self._flush()
+
+    def _flush(self) -> None:
+        dirty, self._dirty = self._dirty, {}
+        for uri, doc in dirty.items():
+            if self.documents.get(uri) is not doc:
+                continue  # closed (or reopened) since
+            try:
+                snapshot = self.analysed(doc)
+                diagnostics = convert.diagnostics(convert.positions(snapshot), uri,
+                                                  snapshot.diagnostics)
+            except Exception:  # noqa: BLE001 - one document's bug must not silence the others
+                log.exception("cannot analyse %s", uri)
+                continue
+            self.text_document_publish_diagnostics(lsp.PublishDiagnosticsParams(
+                uri=uri, diagnostics=diagnostics, version=doc.version))
+
+
+def _collect() -> None:
+    gc.unfreeze()
+    gc.collect()
+    gc.freeze()
+
+
+SERVER = ScriptcServer()
+
+
+def _path(uri: str) -> str:
+    from urllib.parse import unquote, urlparse
+
+    parsed = urlparse(uri)
+    return unquote(parsed.path) if parsed.scheme == "file" else uri
+
+
+# -- lifecycle --------------------------------------------------------------------------------------
+
+
+def diagnostic_modes(capabilities: lsp.ClientCapabilities | None, options) -> tuple[bool, bool]:
+    """(push, pull): push unless the client can pull (then it pulls, and nothing is pushed,
+    or an editor would show every diagnostic twice); `initializationOptions.diagnostics`
+    ("push", "pull" or "both") overrides."""
+    text = capabilities.text_document if capabilities else None
+    can_pull = text is not None and text.diagnostic is not None
+    mode = options.get("diagnostics") if isinstance(options, dict) else None
+    if mode not in ("push", "pull", "both"):
+        mode = "pull" if can_pull else "push"
+    return mode in ("push", "both"), mode in ("pull", "both")
+
+
+@SERVER.feature(lsp.INITIALIZE)
+def initialize(ls: ScriptcServer, params: lsp.InitializeParams) -> None:
+    capabilities = params.capabilities
+    ls.push = diagnostic_modes(capabilities, params.initialization_options)[0]
+    text = capabilities.text_document if capabilities else None
+    completion_caps = text.completion if text is not None else None
+    item_caps = completion_caps.completion_item if completion_caps is not None else None
+    ls.snippets = bool(item_caps and item_caps.snippet_support)
+    formats = (item_caps.documentation_format if item_caps is not None else None) or []
+    ls.markdown_docs = lsp.MarkupKind.Markdown in formats
+    # Load the grammar now rather than on the first keystroke.
+    from scriptc.syntax.parser import script_parser
+
+    script_parser()
+
+
+def _configured(uri: str, text: str, version: int | None) -> Document:
+    """A document with its repository's configuration, as `scriptc lint` reads it: the
+    functions it declares and its policy (selection, per-file ignores, severities). A
+    document that is not a file, or whose configuration cannot be read, gets the defaults;
+    the configuration's own problems are logged (scriptc lint shows them on stderr)."""
+    path = _path(uri)
+    if not uri.startswith("file:"):
+        return Document(uri, text, version, path=path)
+    try:
+        from scriptc.driver import settings_for
+
+        settings, reports = settings_for(path)
+    except Exception:  # noqa: BLE001 - a broken configuration must not cost the session
+        log.exception("cannot read the configuration of %s", path)
+        return Document(uri, text, version, path=path)
+    for report in reports:
+        for d in report.diagnostics:
+            log.warning("%s: %s[%s] %s", report.path, d.severity.value, d.code, d.message)
+    return Document(uri, text, version, path=path, functions=settings.registry,
+                    policy=lambda diagnostics: settings.apply(diagnostics, path))
+
+
+@SERVER.feature(lsp.TEXT_DOCUMENT_DID_OPEN)
+def did_open(ls: ScriptcServer, params: lsp.DidOpenTextDocumentParams) -> None:
+    item = params.text_document
+    doc = ls.documents[item.uri] = _configured(item.uri, item.text, item.version)
+    ls.publish(doc)
+
+
+@SERVER.feature(lsp.TEXT_DOCUMENT_DID_CHANGE)
+def did_change(ls: ScriptcServer, params: lsp.DidChangeTextDocumentParams) -> None:
+    doc = ls.document(params.text_document.uri)
+    if doc is None:
+        log.warning("change to a document that is not open: %s", params.text_document.uri)
+        return
+    for change in params.content_changes:
+        if isinstance(change, lsp.TextDocumentContentChangePartial):
+            start, end, text = convert.change_to_edit(SourceFile("", doc.text), change.range,
+                                                      change.text)
+            doc.replace(start, end, text)
+        else:
+            doc.set_text(change.text)
+    doc.version = params.text_document.version
+    ls.publish(doc)
+
+
+@SERVER.feature(lsp.TEXT_DOCUMENT_DID_CLOSE)
+def did_close(ls: ScriptcServer, params: lsp.DidCloseTextDocumentParams) -> None:
+    uri = params.text_document.uri
+    ls.documents.pop(uri, None)
+    ls._dirty.pop(uri, None)
+    if ls.push:
+        ls.text_document_publish_diagnostics(lsp.PublishDiagnosticsParams(uri=uri, diagnostics=[]))
+
+
+# -- diagnostics (pull) -------------------------------------------------------------------------------
+
+
+@SERVER.feature(lsp.TEXT_DOCUMENT_DIAGNOSTIC,
+                lsp.DiagnosticOptions(identifier="scriptc", inter_file_dependencies=False,
+                                      workspace_diagnostics=False))
+def pull_diagnostics(ls: ScriptcServer, params: lsp.DocumentDiagnosticParams):
+    snapshot = ls.snapshot(params.text_document.uri)
+    if snapshot is None:
+        return lsp.RelatedFullDocumentDiagnosticReport(items=[])
+    uri = params.text_document.uri
+    return lsp.RelatedFullDocumentDiagnosticReport(
+        items=convert.diagnostics(convert.positions(snapshot), uri, snapshot.diagnostics),
+        result_id=f"{id(snapshot):x}",
+    )
+
+
+@SERVER.command("scriptc.explain")
+def explain(ls: ScriptcServer, *args) -> str | None:
+    """The explanation of a diagnostic code, as markdown (for clients that show it)."""
+    if not args or not isinstance(args[0], str):
+        return None
+    from scriptc.diagnostics.codes import REGISTRY
+
+    return hover.code_markdown(args[0].upper()) if args[0].upper() in REGISTRY else None
+
+
+# -- reading features -----------------------------------------------------------------------------
+
+
+def _at(ls: ScriptcServer, params):
+    """The snapshot of the request's document, its position converter, and the snapshot
+    offset of the request's position."""
+    snapshot = ls.snapshot(params.text_document.uri)
+    if snapshot is None:
+        return None, None, 0
+    p = convert.positions(snapshot)
+    return snapshot, p, p.offset(params.position)
+
+
+def _whole(ls: ScriptcServer, params):
+    snapshot = ls.snapshot(params.text_document.uri)
+    return snapshot, (convert.positions(snapshot) if snapshot is not None else None)
+
+
+@SERVER.feature(lsp.TEXT_DOCUMENT_HOVER)
+def on_hover(ls: ScriptcServer, params: lsp.HoverParams):
+    snapshot, p, offset = _at(ls, params)
+    if snapshot is None:
+        return None
+    return convert.hover(p, hover.hover(snapshot, offset))
+
+
+@SERVER.feature(lsp.TEXT_DOCUMENT_COMPLETION,
+                lsp.CompletionOptions(trigger_characters=["[", "#", "(", ":", "&", "?", "{", ","]))
+def on_completion(ls: ScriptcServer, params: lsp.CompletionParams):
+    snapshot, p, offset = _at(ls, params)
+    if snapshot is None:
+        return None
+    return convert.completion_list(p, completion.complete(snapshot, offset), ls.snippets,
+                                   ls.markdown_docs)
+
+
+@SERVER.feature(lsp.TEXT_DOCUMENT_DEFINITION)
+def on_definition(ls: ScriptcServer, params: lsp.DefinitionParams):
+    snapshot, p, offset = _at(ls, params)
+    if snapshot is None:
+        return None
+    spans = navigation.definition(snapshot, offset)
+    return convert.locations(p, params.text_document.uri, spans) or None
+
+
+@SERVER.feature(lsp.TEXT_DOCUMENT_REFERENCES)
+def on_references(ls: ScriptcServer, params: lsp.ReferenceParams):
+    snapshot, p, offset = _at(ls, params)
+    if snapshot is None:
+        return None
+    spans = navigation.references(snapshot, offset, params.context.include_declaration)
+    return convert.locations(p, params.text_document.uri, spans) or None
+
+
+def _rename_failed(error: RenameError) -> JsonRpcException:
+    return JsonRpcException(message=str(error), code=REQUEST_FAILED)
+
+
+@SERVER.feature(lsp.TEXT_DOCUMENT_PREPARE_RENAME)
+def on_prepare_rename(ls: ScriptcServer, params: lsp.PrepareRenameParams):
+    snapshot, p, offset = _at(ls, params)
+    if snapshot is None:
+        return None
+    try:
+        span, name = navigation.prepare_rename(snapshot, offset)
+    except RenameError as error:
+        raise _rename_failed(error) from None
+    return lsp.PrepareRenamePlaceholder(p.range(span), name)
+
+
+@SERVER.feature(lsp.TEXT_DOCUMENT_RENAME, lsp.RenameOptions(prepare_provider=True))
+def on_rename(ls: ScriptcServer, params: lsp.RenameParams):
+    snapshot, p, offset = _at(ls, params)
+    if snapshot is None:
+        return None
+    try:
+        edits = navigation.rename(snapshot, offset, params.new_name)
+    except RenameError as error:
+        raise _rename_failed(error) from None
+    return convert.workspace_edit(p, params.text_document.uri, edits)
+
+
+@SERVER.feature(lsp.TEXT_DOCUMENT_DOCUMENT_SYMBOL)
+def on_document_symbol(ls: ScriptcServer, params: lsp.DocumentSymbolParams):
+    snapshot, p = _whole(ls, params)
+    if snapshot is None:
+        return None
+    return convert.document_symbols(p, outline.document_symbols(snapshot))
+
+
+@SERVER.feature(lsp.TEXT_DOCUMENT_FOLDING_RANGE)
+def on_folding_range(ls: ScriptcServer, params: lsp.FoldingRangeParams):
+    snapshot, p = _whole(ls, params)
+    if snapshot is None:
+        return None
+    return convert.folding_ranges(p, outline.folding_ranges(snapshot))
+
+
+@SERVER.feature(lsp.TEXT_DOCUMENT_SEMANTIC_TOKENS_FULL, convert.LEGEND)
+def on_semantic_tokens(ls: ScriptcServer, params: lsp.SemanticTokensParams):
+    snapshot, p = _whole(ls, params)
+    if snapshot is None:
+        return None
+    return convert.semantic_tokens(p, tokens.semantic_tokens(snapshot))
+
+
+@SERVER.feature(lsp.TEXT_DOCUMENT_SEMANTIC_TOKENS_RANGE, convert.LEGEND)
+def on_semantic_tokens_range(ls: ScriptcServer, params: lsp.SemanticTokensRangeParams):
+    snapshot, p = _whole(ls, params)
+    if snapshot is None:
+        return None
+    return convert.semantic_tokens(p, tokens.semantic_tokens(snapshot, p.span(params.range)))
+
+
+@SERVER.feature(lsp.TEXT_DOCUMENT_CODE_ACTION,
+                lsp.CodeActionOptions(code_action_kinds=[lsp.CodeActionKind.QuickFix,
+                                                         lsp.CodeActionKind.SourceFixAll]))
+def on_code_action(ls: ScriptcServer, params: lsp.CodeActionParams):
+    snapshot, p = _whole(ls, params)
+    if snapshot is None:
+        return None
+    only = tuple(str(getattr(k, "value", k)) for k in params.context.only or ()) or None
+    found = actions.code_actions(snapshot, p.span(params.range), only)
+    return convert.code_actions(p, params.text_document.uri, found) or None
+
+
+@SERVER.feature(lsp.TEXT_DOCUMENT_INLAY_HINT)
+def on_inlay_hint(ls: ScriptcServer, params: lsp.InlayHintParams):
+    snapshot, p = _whole(ls, params)
+    if snapshot is None:
+        return None
+    return convert.inlay_hints(p, hints.inlay_hints(snapshot, p.span(params.range)))
+
+
+# Formatting works on the document's own text (not the analysis text), so its edits are
+# converted with the document's positions.
+
+@SERVER.feature(lsp.TEXT_DOCUMENT_FORMATTING)
+def on_formatting(ls: ScriptcServer, params: lsp.DocumentFormattingParams):
+    doc = ls.document(params.text_document.uri)
+    if doc is None or not formatting.available():
+        return None
+    p = convert.text_positions(SourceFile("", doc.text))
+    return convert.text_edit_list(p, formatting.format_document(doc.text))
+
+
+@SERVER.feature(lsp.TEXT_DOCUMENT_RANGE_FORMATTING)
+def on_range_formatting(ls: ScriptcServer, params: lsp.DocumentRangeFormattingParams):
+    doc = ls.document(params.text_document.uri)
+    if doc is None or not formatting.available():
+        return None
+    p = convert.text_positions(SourceFile("", doc.text))
+    span = p.span(params.range)
+    return convert.text_edits(p, formatting.format_range(doc.text, span.start, span.end))
+
+
+# -- running --------------------------------------------------------------------------------------
+
+
+def serve(log_level: str = "WARNING") -> None:
+    """Talk LSP over stdin and stdout until the client says exit."""
+    logging.basicConfig(stream=sys.stderr, level=getattr(logging, log_level.upper(), logging.WARNING),
+                        format="scriptc-lsp %(levelname)s %(name)s: %(message)s")
+    # pygls logs every message it sends at INFO; keep it quieter than our own level.
+    logging.getLogger("pygls").setLevel(max(logging.WARNING, logging.getLogger().level))
+    stdin, stdout = sys.stdin.buffer, sys.stdout.buffer
+    # A stray print anywhere would corrupt the protocol stream: send it to stderr instead.
+    sys.stdout = sys.stderr
+    gc.disable()  # collections run when idle (ScriptcServer.analysed)
+    try:
+        asyncio.run(_serve(stdin, stdout))
+    except (KeyboardInterrupt, SystemExit, BrokenPipeError, ConnectionResetError):
+        pass
+    except asyncio.IncompleteReadError:
+        log.info("the client closed the connection in the middle of a message")
+    finally:
+        SERVER.shutdown()
+
+
+def _is_pipe(stream) -> bool:
+    import os
+    import stat
+
+    try:
+        mode = os.fstat(stream.fileno()).st_mode
+    except (OSError, ValueError, AttributeError):
+        return False
+    return stat.S_ISFIFO(mode) or stat.S_ISSOCK(mode)
+
+
+async def _serve(stdin, stdout) -> None:
+    """pygls's stdio loop, reading stdin through an asyncio pipe rather than a thread per
+    read (pygls's default): three thread hand-offs per message cost milliseconds on a busy
+    machine."""
+    from pygls.io_ import StdinAsyncReader, StdoutWriter, run_async
+
+    SERVER._stop_event = threading.Event()
+    SERVER.protocol.set_writer(StdoutWriter(stdout))
+    loop = asyncio.get_running_loop()
+    if _is_pipe(stdin):
+        reader = asyncio.StreamReader(limit=2**30)
+        await loop.connect_read_pipe(lambda: asyncio.StreamReaderProtocol(reader), stdin)
+    else:  # a file, /dev/null, a terminal: epoll cannot watch those
+        reader = StdinAsyncReader(stdin, SERVER.thread_pool)
+    await run_async(stop_event=SERVER._stop_event, reader=reader, protocol=SERVER.protocol,
+                    logger=log, error_handler=SERVER.report_server_error)

@@ -1,0 +1,153 @@
+"""Helpers of the language-server tests: the client, the server command, and waiting for the
+diagnostics of one version of a document.
+
+Every test module in tests/lsp/ shares one server (starting one costs about a second): the
+`client` fixture of conftest.py is module-scoped, so each module opens its own documents
+(under its own URIs) and leaves the others' alone.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import sys
+from pathlib import Path
+
+from lsprotocol import types as lsp
+from pytest_lsp import ClientServerConfig, LanguageClient
+from pytest_lsp.client import DEFAULT_CLIENT_FEATURES, register_lsp_features
+from pygls.protocol import default_converter
+
+CASES = Path(__file__).parent.parent / "cases"
+SERVER_COMMAND = [sys.executable, "-m", "scriptc", "lsp"]
+TIMEOUT = 20.0
+
+
+def make_client() -> LanguageClient:
+    """pytest-lsp's client, which also keeps the version of the last diagnostics published
+    for each document (`client.published[uri]`)."""
+    client = LanguageClient(converter_factory=default_converter)
+    client.published = {}  # uri -> PublishDiagnosticsParams
+
+    def publish(client: LanguageClient, params: lsp.PublishDiagnosticsParams) -> None:
+        client.diagnostics[params.uri] = params.diagnostics
+        client.published[params.uri] = params
+
+    features = dict(DEFAULT_CLIENT_FEATURES)
+    features[lsp.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS] = publish
+    register_lsp_features(client, features)
+    return client
+
+
+CONFIG = ClientServerConfig(server_command=SERVER_COMMAND, client_factory=make_client)
+
+
+def capabilities(*, pull: bool = False, snippets: bool = True) -> lsp.ClientCapabilities:
+    return lsp.ClientCapabilities(
+        text_document=lsp.TextDocumentClientCapabilities(
+            completion=lsp.CompletionClientCapabilities(
+                completion_item=lsp.ClientCompletionItemOptions(snippet_support=snippets)),
+            hover=lsp.HoverClientCapabilities(content_format=[lsp.MarkupKind.Markdown]),
+            diagnostic=lsp.DiagnosticClientCapabilities() if pull else None,
+            publish_diagnostics=lsp.PublishDiagnosticsClientCapabilities(related_information=True),
+        ),
+        general=lsp.GeneralClientCapabilities(position_encodings=[lsp.PositionEncodingKind.Utf16]),
+    )
+
+
+async def start(client: LanguageClient, *, pull: bool = False) -> lsp.InitializeResult:
+    """Initialize the session; the result is kept as `client.init_result`."""
+    client.init_result = await client.initialize_session(
+        lsp.InitializeParams(capabilities=capabilities(pull=pull)))
+    return client.init_result
+
+
+async def diagnostics_of(client: LanguageClient, uri: str, version: int | None,
+                         timeout: float = TIMEOUT) -> list[lsp.Diagnostic]:
+    """The diagnostics the server published for `version` of the document."""
+
+    async def wait() -> list[lsp.Diagnostic]:
+        while True:
+            published = client.published.get(uri)
+            if published is not None and published.version == version:
+                return list(published.diagnostics)
+            await client.wait_for_notification(lsp.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+
+    return await asyncio.wait_for(wait(), timeout)
+
+
+class Doc:
+    """A document opened in the server, edited through the client."""
+
+    def __init__(self, client: LanguageClient, uri: str, text: str) -> None:
+        self.client = client
+        self.uri = uri
+        self.text = text
+        self.version = 1
+
+    @classmethod
+    async def open(cls, client: LanguageClient, name: str, text: str) -> Doc:
+        doc = cls(client, f"file:///scriptc-tests/{name}", text)
+        client.text_document_did_open(lsp.DidOpenTextDocumentParams(
+            lsp.TextDocumentItem(doc.uri, "scriptc", doc.version, text)))
+        await doc.diagnostics()
+        return doc
+
+    @property
+    def id(self) -> lsp.TextDocumentIdentifier:
+        return lsp.TextDocumentIdentifier(self.uri)
+
+    async def diagnostics(self) -> list[lsp.Diagnostic]:
+        return await diagnostics_of(self.client, self.uri, self.version)
+
+    def position(self, offset: int) -> lsp.Position:
+        """The protocol position of a code-point offset (computed here independently of the
+        server's conversion: UTF-16 units since the line's start)."""
+        before = self.text[:offset]
+        line = before.count("\n")
+        column = before[before.rfind("\n") + 1:]
+        return lsp.Position(line, len(column.encode("utf-16-le")) // 2)
+
+    def at(self, marker: str, delta: int = 0) -> lsp.Position:
+        """The position of the first occurrence of `marker`, moved by `delta` code points."""
+        i = self.text.index(marker)
+        return self.position(i + delta)
+
+    def offset(self, position: lsp.Position) -> int:
+        lines = self.text.split("\n")
+        prefix = sum(len(line) + 1 for line in lines[:position.line])
+        units = lines[position.line].encode("utf-16-le")[:position.character * 2]
+        return prefix + len(units.decode("utf-16-le"))
+
+    def range_text(self, range_: lsp.Range) -> str:
+        return self.text[self.offset(range_.start):self.offset(range_.end)]
+
+    async def replace(self, start: int, end: int, new_text: str) -> list[lsp.Diagnostic]:
+        """Edit `text[start:end]` (offsets) and wait for the new diagnostics."""
+        range_ = lsp.Range(self.position(start), self.position(end))
+        self.text = self.text[:start] + new_text + self.text[end:]
+        self.version += 1
+        self.client.text_document_did_change(lsp.DidChangeTextDocumentParams(
+            lsp.VersionedTextDocumentIdentifier(uri=self.uri, version=self.version),
+            [lsp.TextDocumentContentChangePartial(range=range_, text=new_text)]))
+        return await self.diagnostics()
+
+    async def set_text(self, text: str) -> list[lsp.Diagnostic]:
+        self.text = text
+        self.version += 1
+        self.client.text_document_did_change(lsp.DidChangeTextDocumentParams(
+            lsp.VersionedTextDocumentIdentifier(uri=self.uri, version=self.version),
+            [lsp.TextDocumentContentChangeWholeDocument(text=text)]))
+        return await self.diagnostics()
+
+    def close(self) -> None:
+        self.client.text_document_did_close(lsp.DidCloseTextDocumentParams(self.id))
+
+
+def apply_edits(text: str, doc: Doc, edits: list[lsp.TextEdit]) -> str:
+    """`text` with protocol edits applied as the protocol says (insertions at one position
+    keep their order in the list)."""
+    spans = sorted(((doc.offset(e.range.start), i, doc.offset(e.range.end), e.new_text)
+                    for i, e in enumerate(edits)), reverse=True)
+    for start, _, end, new in spans:
+        text = text[:start] + new + text[end:]
+    return text

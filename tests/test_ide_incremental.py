@@ -1,0 +1,209 @@
+"""Incremental analysis (scriptc.ide.incremental, layout, shift, document): an edit re-parses
+only the items it touched, and the result is always what `scriptc lint` reports for the
+document's text (`analyze_script`), whatever the edits."""
+
+from __future__ import annotations
+
+import random
+import sys
+from pathlib import Path
+
+import pytest
+
+from harness import CASES
+from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit
+from scriptc.driver import analyze_script
+from scriptc.ide.document import Document, canonical
+from scriptc.ide.incremental import Analyzer
+from scriptc.ide.layout import Layout
+from scriptc.ide.shift import _SHIFTERS, shift
+from scriptc.ir import nodes
+from scriptc.source import SourceFile, Span
+from scriptc.syntax.scan import scan
+
+sys.path.insert(0, str(Path(__file__).parent.parent / "bench"))
+from generate import big_script  # noqa: E402
+
+SCRIPTS = [p.read_bytes().decode("utf-8", "replace") for p in sorted(CASES.rglob("*.script"))
+           if "$0" not in p.read_bytes().decode("utf-8", "replace")]
+
+
+def real(d: Diagnostic, layout: Layout) -> Diagnostic:
+    """A diagnostic of a snapshot in the document's offsets."""
+    def f(s: Span) -> Span:
+        return Span(layout.to_real(s.start), layout.to_real(s.end))
+
+    fix = d.fix and Fix(d.fix.message, tuple(TextEdit(f(e.span), e.new_text) for e in d.fix.edits),
+                        d.fix.safe)
+    return Diagnostic(d.code, d.severity, d.message, f(d.span),
+                      tuple(Label(f(label.span), label.message) for label in d.labels),
+                      d.notes, d.help, fix, d.path)
+
+
+def assert_same_as_lint(doc: Document) -> None:
+    snapshot = doc.snapshot()
+    fresh = analyze_script(SourceFile(doc.path, doc.text)).diagnostics
+    assert [real(d, snapshot.layout) for d in snapshot.diagnostics] == fresh
+    # The scan (partly redone after an edit inside one item) is the scan of the whole text.
+    whole = scan(snapshot.text)
+    assert (snapshot.items, snapshot.comments, snapshot.result.scan.diagnostics) == (
+        whole.items, whole.comments, whole.diagnostics)
+    # The analysis text is the document's text with pads of spaces after items.
+    pieces, last = [], 0
+    for p, n in snapshot.layout.pads:
+        assert snapshot.text[p:p + n] == " " * n and snapshot.text[p - 1] == "]"
+        pieces.append(snapshot.text[last:p])
+        last = p + n
+    pieces.append(snapshot.text[last:])
+    assert "".join(pieces) == doc.text
+
+
+# -- the incremental path is the one taken -------------------------------------------------------
+
+
+def test_a_keystroke_reparses_one_item() -> None:
+    text = big_script(560)  # about 90 KB
+    doc = Document("big", text)
+    first = doc.snapshot()
+    distinct = len({first.text[i.span.start:i.span.end] for i in first.items})
+    assert first.stats.parsed == distinct and first.stats.items == len(first.items)
+    for n, at in enumerate([300, len(text) // 2, len(text) - 3000]):
+        at = doc.text.index('MV("0.', at) + len('MV("0.')
+        doc.replace(at, at, "5")
+        stats = doc.snapshot().stats
+        assert (stats.parsed, stats.lowered) == (1, 1), stats
+        assert stats.shifted_lowerings == 0, "the pad after the item absorbed the keystroke"
+        assert stats.reused_parses == stats.items - 1
+        doc.replace(at, at + 1, "")
+        assert doc.snapshot().stats.parsed == 0  # the old text of the item is still cached
+    assert_same_as_lint(doc)
+
+
+def test_a_structural_edit_moves_items_by_shifting() -> None:
+    text = big_script(100)
+    doc = Document("big", text)
+    doc.snapshot()
+    at = doc.text.index("[goal:goal0]")
+    doc.replace(at, at, "% a new comment before the goal %\n")  # between items: no pad takes it
+    stats = doc.snapshot().stats
+    assert stats.parsed == 0 and stats.lowered == 0 and stats.shifted_lowerings > 50
+    assert_same_as_lint(doc)
+
+
+def test_without_slack_the_analysis_text_is_the_text() -> None:
+    text = SCRIPTS[0]
+    result = Analyzer().analyze(text)
+    assert result.source.text == text and result.layout.identity
+
+
+# -- equal to a fresh analysis ------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("text", SCRIPTS[:200], ids=lambda t: str(hash(t) % 10**6))
+def test_every_case_file(text: str) -> None:
+    analyzer = Analyzer()
+    result = analyzer.analyze(text)
+    fresh = analyze_script(SourceFile("", text))
+    assert result.diagnostics == fresh.diagnostics
+    assert result.script == fresh.script
+    # Analysing again, from the caches, gives the same.
+    again = analyzer.analyze(text)
+    assert again.diagnostics == fresh.diagnostics and again.stats.parsed == 0
+
+
+ALPHABET = list('[]#(){}",%!?:>&@$ \nabcxyzMVLDAO0123456789.') + [
+    "blk_inst", "blk_jump", "TRJMP(", "[b#", "OP<", "😀", "é", "\r\n", "\ud83d", "\ude00",
+    "% scriptc: ignore[F001] %"]
+
+
+def test_random_edits_equal_a_fresh_analysis() -> None:
+    """Random edits, mostly small and inside items (what typing does), some anywhere."""
+    rng = random.Random(5)
+    steps = 0
+    for _ in range(60):
+        doc = Document("x", rng.choice(SCRIPTS))
+        doc.snapshot()
+        for _ in range(rng.randint(1, 30)):
+            n = len(doc.text)
+            i = rng.randint(0, n)
+            j = min(n, i + rng.choice([0, 0, 0, 1, 1, 2, 5, 40]))
+            new = "".join(rng.choice(ALPHABET) for _ in range(rng.choice([0, 1, 1, 1, 2, 3])))
+            doc.replace(i, j, new)
+            if rng.random() < 0.2:  # several edits before one analysis
+                k = rng.randint(0, len(doc.text))
+                doc.replace(k, k, rng.choice(ALPHABET))
+            assert_same_as_lint(doc)
+            steps += 1
+    assert steps > 500
+
+
+def test_typing_through_a_large_script() -> None:
+    """Digits typed into and deleted from numbers all over a valid script: the checks run
+    every time, and the pads take every keystroke."""
+    import re
+
+    rng = random.Random(11)
+    doc = Document("big", big_script(80))
+    doc.snapshot()
+    digit = re.compile(r"[0-9]")
+    for _ in range(80):
+        at = digit.search(doc.text, rng.randrange(len(doc.text) - 200)).start()
+        if rng.random() < 0.5:
+            doc.replace(at, at, str(rng.randint(0, 9)))
+        else:
+            doc.replace(at, at + 1, "")
+        assert_same_as_lint(doc)
+
+
+def test_set_text_starts_again() -> None:
+    doc = Document("x", SCRIPTS[1])
+    doc.snapshot()
+    doc.set_text(SCRIPTS[2])
+    assert_same_as_lint(doc)
+
+
+# -- the pieces ---------------------------------------------------------------------------------
+
+
+def test_layout_converts_both_ways() -> None:
+    # Analysis text: "[a]" + 3 pad spaces + "\n[b]" + 2 pad spaces + "\n"
+    layout = Layout(((3, 3), (10, 2)))
+    assert [layout.to_real(o) for o in (0, 3, 4, 5, 6, 7, 10, 11, 12, 13)] == [0, 3, 3, 3, 3, 4, 7, 7, 7, 8]
+    assert layout.to_analysis(3) == 3 and layout.to_analysis(3, after=True) == 6
+    assert layout.to_analysis(4) == 7 and layout.to_analysis(7) == 10
+    assert layout.to_analysis(7, after=True) == 12 and layout.total == 5
+    for r in range(9):
+        assert layout.to_real(layout.to_analysis(r)) == r
+        assert layout.to_real(layout.to_analysis(r, after=True)) == r
+
+
+def test_shift_moves_every_span_and_only_spans() -> None:
+    script = analyze_script(SourceFile("x", (CASES / "emit" / "features.script").read_text(
+        encoding="utf-8"))).script
+    moved = shift(script, 17)
+    assert moved != script and shift(moved, -17) == script
+    assert moved.goals[0].actions[0].blocks[0].span == script.goals[0].actions[0].blocks[0].span.shift(17)
+    assert shift(script, 0) is script
+
+
+def test_every_node_type_can_be_shifted() -> None:
+    import dataclasses
+
+    from scriptc.diagnostics import model
+
+    for module in (nodes, model):
+        for value in vars(module).values():
+            if isinstance(value, type) and dataclasses.is_dataclass(value) and value.__module__ == module.__name__:
+                assert value in _SHIFTERS, f"{value.__name__} has no generated shifter (is it slotted?)"
+
+
+def test_canonical_joins_surrogate_pairs() -> None:
+    assert canonical("a\ud83d\ude00b") == "a😀b"
+    assert canonical("a\ud83db") == "a\ud83db"  # a lone half stays
+    doc = Document("x", "[a] 😀")
+    doc.replace(5, 5, "X")  # after the emoji
+    assert doc.text == "[a] 😀X"
+    doc = Document("x", "[a] \ud83d")
+    doc.replace(5, 5, "\ude00")  # completes the pair
+    assert doc.text == "[a] 😀"
+    assert_same_as_lint(doc)

@@ -1,0 +1,222 @@
+"""The MuJoCo robot (runtime/robots/mujoco.py, docs/robot.md): execution tests of the issue,
+the stepping rules, the silent-reset check, and simulated sensing."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+
+from click.testing import CliRunner
+
+from scriptc.cli.main import cli
+from scriptc.driver import analyze_bytes
+from scriptc.profile import DEFAULT_PROFILE, Profile
+from scriptc.runtime.interp import IRProgram
+from scriptc.runtime.robots import RobotFailure, make_robot
+from scriptc.runtime.scenario import scenario_from_data
+from scriptc.runtime.session import Session
+from scriptc.runtime.trace import Trace
+
+ROOT = Path(__file__).resolve().parent.parent
+TEST_ACT = ROOT / "examples" / "test_act.script"
+
+
+def program(text: str, name: str = "t.script") -> IRProgram:
+    analysis = analyze_bytes(name, text.encode(), "script")
+    assert analysis.ok, [d.message for d in analysis.diagnostics]
+    return IRProgram(analysis.script, name)
+
+
+def moves(*commands: str) -> str:
+    mv = ", ".join(f'"{c}"' for c in commands)
+    return f"[m]\n[goal:g]\n[action]\n[b##blk_inst: MV({mv}) LD() AO()]\n[b##blk_terminus]\n"
+
+
+def run(text: str, world=None, profile=None, until=None):
+    trace = Trace()
+    scenario = scenario_from_data(world, "w.json") if world is not None else None
+    session = Session([program(text)], robot="mujoco", scenario=scenario, trace=trace,
+                      profile=profile)
+    return session.run(until), trace
+
+
+# ---------------------------------------------------------------------------------------------
+# The issue's execution tests
+
+
+def test_a_square_of_four_moves_returns_to_the_origin() -> None:
+    result, _ = run(moves("0.25, 0, 0, 0, 2000", "0, 0.25, 0, 0, 2000", "-0.25, 0, 0, 0, 2000",
+                          "0, -0.25, 0, 0, 2000"))
+    assert result.outcome == "completed" and result.time_ms == 8000
+    assert math.hypot(result.pose.x, result.pose.y) < 0.01
+    assert result.pose.x == pytest.approx(0.0, abs=1e-9)  # in fact exact
+
+
+def test_a_square_with_turns_returns_to_the_origin() -> None:
+    quarter = "0, 0, 0.5, 0, 3142"  # ms are whole: 3.142 s at 0.5 rad/s is pi/2 within 2e-4
+    result, _ = run(moves(*(["0.25, 0, 0, 0, 2000", quarter] * 4)))
+    assert math.hypot(result.pose.x, result.pose.y) < 0.01
+
+
+def test_a_quarter_meter_per_second_for_two_seconds_goes_half_a_meter() -> None:
+    result, _ = run(moves("0.25, 0, 0, 0, 2000"))
+    assert result.time_ms == 2000
+    assert result.pose.x == pytest.approx(0.5, abs=1e-3)
+    assert result.pose.y == 0.0 and result.pose.theta == 0.0
+
+
+def test_a_turn_of_half_a_radian_per_second_for_a_second() -> None:
+    result, _ = run(moves("0, 0, 0.5, 0, 1000"))
+    assert result.pose.theta == pytest.approx(0.5, abs=1e-3)
+    assert math.hypot(result.pose.x, result.pose.y) < 1e-9
+
+
+def test_moves_are_in_the_body_frame() -> None:
+    result, _ = run(moves("0, 0, 0.5, 0, 3142", "0.25, 0, 0, 0, 2000"))
+    assert result.pose.x == pytest.approx(0.0, abs=1e-3)
+    assert result.pose.y == pytest.approx(0.5, abs=1e-3)
+
+
+def test_the_governor_clamps_test_act_and_the_run_still_ends_at_16000_ms() -> None:
+    trace = Trace()
+    text = TEST_ACT.read_text(encoding="utf-8")
+    session = Session([program(text, "test_act.script")], robot="mujoco", trace=trace,
+                      profile=DEFAULT_PROFILE)
+    result = session.run()
+    assert result.outcome == "completed" and result.time_ms == 16000
+    clamps = trace.of_kind("governor")
+    assert clamps and all("speed" in e["reasons"] for e in clamps[:4])
+    assert clamps[0]["commanded"]["v_x"] == 10.0
+    assert clamps[0]["applied"]["v_x"] == pytest.approx(DEFAULT_PROFILE.max_linear_speed)
+    # every velocity the physics got is within the profile
+    assert session.governor.clamps == len(clamps) == 6
+    assert math.hypot(result.pose.x, result.pose.y) < 0.01
+
+
+def test_two_runs_give_bit_identical_traces() -> None:
+    text = TEST_ACT.read_text(encoding="utf-8")
+    texts = []
+    for _ in range(2):
+        trace = Trace()
+        Session([program(text)], robot="mujoco", trace=trace, profile=DEFAULT_PROFILE,
+                scenario=scenario_from_data(APPROACH_WORLD, "w.json")).run()
+        texts.append(trace.text())
+    assert texts[0] == texts[1] and texts[0].count("\n") > 50
+
+
+# ---------------------------------------------------------------------------------------------
+# Stepping and the backend
+
+
+def test_durations_land_on_whole_steps() -> None:
+    robot = make_robot("mujoco")
+    robot.set_velocity(0, 0.25, 0, 0)
+    robot.advance(1)
+    assert robot.steps == robot.steps_per_ms == 1
+    robot.advance(1)  # no time: no step (nstep <= 0 is never passed)
+    robot.set_velocity(1001, 0, 0, 0)
+    assert robot.steps == 1001
+    robot.advance(1100)
+    assert robot.pose().x == pytest.approx(0.25 * 1.001, abs=1e-12)
+
+
+def test_the_silent_reset_is_reported() -> None:
+    robot = make_robot("mujoco")
+    robot.set_velocity(0, 1e300, 0, 0)
+    with pytest.raises(RobotFailure, match="unstable"):
+        robot.advance(10)
+
+
+def test_an_unstable_run_ends_with_an_error() -> None:
+    trace = Trace()
+    result = Session([program(moves("1e300, 0, 0, 0, 1000"))], robot="mujoco",
+                     trace=trace).run()
+    assert result.outcome == "error"
+    assert trace.errors[0]["code"] == "robot-unstable" and trace.errors[0]["fatal"]
+
+
+def test_leds_and_audio_show_in_the_model() -> None:
+    robot = make_robot("mujoco")
+    text = "[m]\n[goal:g]\n[action]\n[b##blk_inst: MV() LD(\"1, 0, 0.5, 1, 0, 1000\") AO()]\n" \
+           "[b##blk_terminus]\n"
+    session = Session([program(text)], robot=robot, trace=Trace())
+    session.run(500)
+    assert robot.led_rgba() == (1.0, 0.0, 0.5, 1.0)
+    session2 = Session([program(text)], robot=make_robot("mujoco"), trace=Trace())
+    session2.run()
+    assert session2.robot.led_rgba()[:3] != (1.0, 0.0, 0.5)
+
+
+def test_cli_default_robot_is_mujoco(tmp_path: Path) -> None:
+    import json
+
+    result = CliRunner().invoke(cli, ["run", str(TEST_ACT), "--json"], catch_exceptions=False)
+    data = json.loads(result.stdout)
+    assert data["outcome"] == "completed" and data["time_ms"] == 16000
+    out = tmp_path / "t.jsonl"
+    CliRunner().invoke(cli, ["run", str(TEST_ACT), "--trace", str(out)], catch_exceptions=False)
+    first = out.read_text(encoding="utf-8").splitlines()[0]
+    assert '"robot":"mujoco"' in first
+
+
+# ---------------------------------------------------------------------------------------------
+# Simulated sensing
+
+APPROACH = """[approach]
+[goal:approach]
+  [action]
+    [b#step#blk_inst: MV("0.25, 0, 0, 0, 100") LD() AO()]
+    [b##blk_jump: CND({CLASS #Human U ?kid (?THIS>&positionrho OP< 0.5)} ! {TRUE}) TRJMP(greet) FLSJMP(step)]
+    [b#greet#blk_inst: MV() LD("0, 1, 0, 1, 0, 1000") AO()]
+    [b##blk_terminus]
+"""
+APPROACH_WORLD = {"entities": [{"objectid": "Human/kid1", "x": 2.0, "y": 0.0}],
+                  "sensing": {"rate_hz": 10}}
+
+
+def test_approach_the_child_stops_closer_than_half_a_metre() -> None:
+    result, trace = run(APPROACH, APPROACH_WORLD, profile=DEFAULT_PROFILE, until=60_000)
+    assert result.outcome == "completed"
+    distance = 2.0 - result.pose.x
+    assert 0.45 < distance < 0.5
+    jumps = trace.of_kind("jump")
+    assert jumps[-1]["value"] is True and all(j["value"] is False for j in jumps[:-1])
+    assert not trace.of_kind("governor")  # 0.25 m/s, and never closer than 0.4 m
+    sensed = [e for e in trace.of_kind("update") if e["objectid"] == "Human/kid1"]
+    assert sensed and sensed[0]["value"]["positionrho"] == 2.0
+
+
+def test_a_child_walking_toward_the_robot_is_met_sooner() -> None:
+    world = {"entities": [{"objectid": "Human/kid1", "x": 3.0, "y": 0.0, "v_x": -0.25}]}
+    result, _ = run(APPROACH, world, until=60_000)
+    assert result.outcome == "completed"
+    # met at 5100 ms (the static child takes until 6100 ms), then 1000 ms of greeting
+    assert result.time_ms == 6100 and 1.1 < result.pose.x < 1.3
+
+
+def test_the_governor_keeps_the_minimum_distance_to_humans() -> None:
+    world = {"entities": [{"objectid": "Human/kid1", "x": 2.0, "y": 0.0}]}
+    result, trace = run(moves("0.3, 0, 0, 0, 10000"), world, profile=DEFAULT_PROFILE)
+    assert result.outcome == "completed" and result.time_ms == 10000
+    distance = 2.0 - result.pose.x
+    assert DEFAULT_PROFILE.min_human_distance - 0.04 < distance < \
+        DEFAULT_PROFILE.min_human_distance
+    assert any("human-distance" in e["reasons"] for e in trace.of_kind("governor"))
+
+
+def test_a_profile_changes_the_limits() -> None:
+    slow = Profile(max_linear_speed=0.1)
+    result, trace = run(moves("0.25, 0, 0, 0, 2000"), profile=slow)
+    assert result.pose.x == pytest.approx(0.2, abs=1e-3)
+    assert trace.of_kind("governor")[0]["reasons"] == ["speed"]
+
+
+def test_the_model_is_package_data() -> None:
+    from scriptc.runtime.robots.mujoco import load_model, model_xml
+
+    xml = model_xml()
+    assert 'name="led_left"' in xml and 'name="speaker"' in xml
+    model = load_model()
+    assert model.opt.timestep == 0.001 and model.nu == 3 and model.nq == 3
