@@ -99,3 +99,31 @@ def test_an_implementation_that_cannot_be_imported_is_named(repo: Path) -> None:
     settings, _ = settings_for(str(repo / "party.script"), cache=False)
     with pytest.raises(ConfiguredError, match=r"rule `wave`.*Missing"):
         rules_for(settings)
+
+
+def test_scriptc_run_uses_the_repository(repo: Path) -> None:
+    """`scriptc run` checks with the declared functions and runs them and the rules."""
+    import json
+
+    from click.testing import CliRunner
+
+    from scriptc.cli.main import cli
+
+    trace = repo / "run.jsonl"
+    result = CliRunner().invoke(cli, ["run", str(repo / "party.script"), "--robot", "kinematic",
+                                      "--json", "--trace", str(trace)])
+    assert result.exit_code == 0, result.output
+    assert abs(json.loads(result.stdout)["pose"]["x"] - 0.1) < 1e-9
+    events = [json.loads(line) for line in trace.read_text(encoding="utf-8").splitlines()]
+    assert {e["message"] for e in events if e["event"] == "rule_note"} == {"cheer", "wave"}
+
+
+def test_scriptc_run_names_an_implementation_it_cannot_import(repo: Path) -> None:
+    from click.testing import CliRunner
+
+    from scriptc.cli.main import cli
+
+    (repo / "scriptc.toml").write_text(CONFIG.replace("activity_functions:farther", "nowhere:farther"),
+                                       encoding="utf-8")
+    result = CliRunner().invoke(cli, ["run", str(repo / "party.script"), "--robot", "kinematic"])
+    assert result.exit_code == 2 and "function `farther`" in result.output and "nowhere" in result.output

@@ -45,14 +45,3 @@ def profile_from_settings(settings: Any) -> Profile:
     if not given:
         return DEFAULT_PROFILE
     return replace(DEFAULT_PROFILE, **given, source=getattr(settings, "path", None) or "config")
-
-
-def profile_for(path: str) -> Profile:
-    """The profile of the repository `path` lives in (its configuration file, found by walking
-    up from it); the defaults when there is none or it cannot be read."""
-    try:
-        from scriptc.config import Resolver
-
-        return profile_from_settings(Resolver().for_file(path))
-    except Exception:  # noqa: BLE001 - a broken configuration is lint's to report
-        return DEFAULT_PROFILE

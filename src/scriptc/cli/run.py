@@ -22,7 +22,8 @@ import os
 import click
 
 from scriptc import driver
-from scriptc.cli._shell import CliError, show, write, write_bytes, write_output
+from scriptc.profile import profile_from_settings
+from scriptc.cli._shell import CliError, load, show, write, write_bytes, write_output
 
 DEFAULT_LIMIT_MS = 3_600_000
 
@@ -83,10 +84,9 @@ def _analyze(paths: tuple[str, ...], executor: str = "vm"):
         if kind == "scb":
             programs.append(_bytecode_program(path))
             continue
-        try:
-            analysis = driver.analyze_file(path, kind)
-        except driver.ReadError as exc:
-            raise CliError(str(exc)) from None
+        # As `scriptc compile` reads it: the repository's declared functions, its robot
+        # profile and its lint policy (scriptc.toml).
+        analysis = load(path, kind)
         analyses.append(analysis)
         programs.append(_checked_program(analysis, path, executor) if analysis.ok else None)
     return analyses, programs
@@ -103,7 +103,9 @@ def _loader(path: str, executor: str = "vm"):
         except CliError as exc:
             raise LoadError(exc.format_message()) from None
     try:
-        analysis = driver.analyze_file(path, kind)
+        settings, _problems = driver.settings_for(path)
+        analysis = driver.analyze_file(path, kind, functions=settings.registry,
+                                       profile=profile_from_settings(settings))
     except driver.ReadError as exc:
         raise LoadError(str(exc)) from None
     if not analysis.ok:
@@ -174,13 +176,19 @@ def command(ctx: click.Context, files: tuple[str, ...], world: str | None, until
         show([a for a in analyses if a.diagnostics], err=True)
     if any(p is None for p in programs):
         ctx.exit(1)
-    from scriptc.profile import profile_for
+    from scriptc.runtime.configured import ConfiguredError, implementations_for, rules_for
 
+    # One session, one robot: the repository of the first file gives the functions and rules
+    # that run (imported now: linting never imports them) and the safety governor's profile.
+    settings, _problems = driver.settings_for(files[0])
+    try:
+        functions, rules = implementations_for(settings), rules_for(settings)
+    except ConfiguredError as exc:
+        raise CliError(str(exc)) from None
     trace = Trace(enabled=trace_path is not None or plot_path is not None)
-    # The safety governor with the profile of the first file's repository (docs/robot.md).
     if governor is None:
         governor = robot != "kinematic"
-    profile = profile_for(files[0]) if governor else None
+    profile = profile_from_settings(settings) if governor else None
     try:
         robot_backend = make_robot(robot)
     except Exception as exc:  # noqa: BLE001 - a backend that cannot start (mujoco missing)
@@ -191,7 +199,8 @@ def command(ctx: click.Context, files: tuple[str, ...], world: str | None, until
 
         robot_backend = recorder = PathRecorder(robot_backend)
     session = Session(programs, scenario=scenario, robot=robot_backend, trace=trace,
-                      loader=lambda path: _loader(path, executor), profile=profile)
+                      loader=lambda path: _loader(path, executor), profile=profile,
+                      functions=functions, rules=rules)
     # Scripts may loop forever: without --until, a run stops after an hour of simulated time.
     result = session.run(until if until is not None else DEFAULT_LIMIT_MS)
     capped = until is None and result.outcome == "until"
