@@ -47,6 +47,24 @@ async def test_labels_notes_and_help_are_related_information(client):
     assert all(r.location.range == first.range for r in rest)
 
 
+async def test_the_code_links_to_its_explanation(client):
+    """`codeDescription.href` is the explanation shipped in the package: a file that exists
+    and is what `scriptc explain` prints."""
+    from pathlib import Path
+    from urllib.parse import urlparse
+    from urllib.request import url2pathname
+
+    from scriptc.diagnostics.codes import explanation
+
+    text = (CASES / "checks" / "duplicate_label.script").read_text(encoding="utf-8")
+    doc = await Doc.open(client, "links.script", text)
+    first = (await doc.diagnostics())[0]
+    href = first.code_description.href
+    assert href.startswith("file:") and href.endswith("/L001.md")
+    path = Path(url2pathname(urlparse(href).path))
+    assert path.read_text(encoding="utf-8") == explanation("L001")
+
+
 async def test_severities_and_unreachable_code_is_faded(client):
     text = (CASES / "checks" / "unreachable.script").read_text(encoding="utf-8")
     doc = await Doc.open(client, "faded.script", text)

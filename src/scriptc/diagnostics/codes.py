@@ -22,6 +22,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from functools import cache
 from importlib import resources
+from pathlib import Path
 
 from scriptc.diagnostics.model import Severity
 
@@ -127,6 +128,16 @@ def lookup(code: str) -> Code:
 
 def all_codes() -> tuple[Code, ...]:
     return _CODES
+
+
+def explanation_uri(code: str) -> str | None:
+    """A `file:` URI of the explanation of `code`, shipped inside the package: the link an
+    editor opens from a diagnostic's code (there is no public page to link to)."""
+    path = resources.files("scriptc.diagnostics") / "explanations" / f"{code}.md"
+    try:
+        return Path(str(path)).resolve(strict=True).as_uri()
+    except (OSError, ValueError):
+        return None
 
 
 @cache

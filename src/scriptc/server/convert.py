@@ -12,8 +12,11 @@ with an edit (`change_to_edit`), and rounded down to the start of the character 
 
 from __future__ import annotations
 
+from functools import cache
+
 from lsprotocol import types as lsp
 
+from scriptc.diagnostics.codes import explanation_uri
 from scriptc.diagnostics.model import Diagnostic, Severity, TextEdit
 from scriptc.ide import model
 from scriptc.ide.layout import IDENTITY, Layout
@@ -186,8 +189,9 @@ def _halves(ch: str) -> tuple[str, str]:
 def diagnostic(p: Positions, uri: str, d: Diagnostic) -> lsp.Diagnostic:
     """The protocol's diagnostic: the code and message the CLI prints; labels as related
     locations; notes and help as related information at the diagnostic itself (editors list
-    them under the message). No `codeDescription`: the codes have no public page, and a
-    hover on a code, or the `scriptc.explain` command, gives the explanation."""
+    them under the message). The code links (`codeDescription`) to its explanation, a file
+    shipped inside the package (the codes have no public page); a hover on a code, or the
+    `scriptc.explain` command, gives the same text."""
     primary = p.range(d.span)
     related = [lsp.DiagnosticRelatedInformation(lsp.Location(uri, p.range(label.span)), label.message)
                for label in d.labels]
@@ -200,10 +204,17 @@ def diagnostic(p: Positions, uri: str, d: Diagnostic) -> lsp.Diagnostic:
         message=d.message,
         severity=_SEVERITY[d.severity],
         code=d.code,
+        code_description=_code_link(d.code),
         source=SOURCE,
         related_information=related or None,
         tags=[lsp.DiagnosticTag.Unnecessary] if d.code in _UNNECESSARY else None,
     )
+
+
+@cache
+def _code_link(code: str) -> lsp.CodeDescription | None:
+    uri = explanation_uri(code)
+    return lsp.CodeDescription(href=uri) if uri else None
 
 
 def diagnostics(p: Positions, uri: str, items: list[Diagnostic]) -> list[lsp.Diagnostic]:
