@@ -93,7 +93,7 @@ def test_diagnostic_conversion():
     out = convert.diagnostic(convert.text_positions(source), "file:///x", d)
     assert (out.code, out.message, out.source) == ("L001", d.message, "scriptc")
     assert out.range == lsp.Range(lsp.Position(4, 3), lsp.Position(4, 4))
-    assert out.code_description is None
+    assert out.code_description.href.endswith("/explanations/L001.md")
     assert [r.message.split(":")[0] for r in out.related_information][1:] == ["note", "help"]
 
 
