@@ -38,6 +38,11 @@ def test_the_scaffold_lints_clean(scaffold: Path) -> None:
     assert result.stderr == "checked 1 file: no problems\n"
 
 
+def test_the_scaffold_is_formatted(scaffold: Path) -> None:
+    result = run("fmt", "--check", str(scaffold))
+    assert result.exit_code == 0, result.output
+
+
 def test_the_configuration_is_valid_and_applies(scaffold: Path) -> None:
     from scriptc.config import load_config
 

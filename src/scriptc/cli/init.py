@@ -65,7 +65,9 @@ ACTIVITY = """\
   [action]
     [b#idle#blk_inst: MV("0, 0, 0, 0, 500") LD() AO()]
     [b#look#blk_jump: CND({CLASS #Human T ?kid (B: near(1.0))} ! {TRUE}) TRJMP(greet) FLSJMP(idle)]
-    [b#greet#blk_inst: MV("0, 0, 1.5, 0, 2000") LD("0, 1, 0, 1, 0, 500", "0, 0, 0, 0, 500, 500") AO()]
+    [b#greet#blk_inst: MV("0, 0, 1.5, 0, 2000")
+                       LD("0, 1, 0, 1, 0, 500", "0, 0, 0, 0, 500, 500")
+                       AO()]
     [b#done#blk_terminus]
 """
 
