@@ -306,8 +306,8 @@ def test_no_script_syntax_fixes_on_json_sources():
     text = blocks('[b##blk_inst: MV("0, 0, 0, 1e3, 0") LD() AO()]')
     analysis = analyze_script(SourceFile("t.script", text))
     json_like = SourceFile("t.json", "{" + text[1:])
-    assert Context(analysis.script, json_like).is_script_syntax is False
-    diags = check_script(analysis.script, json_like)
+    assert Context(analysis.script, json_like, kind="json").is_script_syntax is False
+    diags = check_script(analysis.script, json_like, kind="json")
     assert [d.code for d in diags] == ["F003", "V006"]
     assert all(d.fix is None for d in diags)
 

@@ -170,3 +170,21 @@ def test_a_formatter_bug_writes_nothing(tree: Path, monkeypatch) -> None:
     assert result.exit_code == 2
     assert "internal error: FormatterError" in result.stderr
     assert (tree / "x.script").read_text(encoding="utf-8") == text
+
+
+def test_folders_are_walked_as_lint_walks_them(tmp_path: Path) -> None:
+    """`scriptc fmt DIR` skips what .gitignore ignores, like `scriptc lint DIR`."""
+    from scriptc.cli.main import cli
+
+    (tmp_path / ".git").mkdir()
+    (tmp_path / ".gitignore").write_text("generated/\n", encoding="utf-8")
+    (tmp_path / "generated").mkdir()
+    (tmp_path / "generated" / "messy.script").write_text("[a]   [goal:g][action][b##blk_terminus]\n",
+                                                         encoding="utf-8")
+    (tmp_path / "tidy.script").write_text("[a]\n[goal:g]\n  [action]\n    [b##blk_terminus]\n",
+                                          encoding="utf-8")
+    result = CliRunner().invoke(cli, ["fmt", "--check", str(tmp_path)])
+    assert result.exit_code == 0, result.output
+    # A file named on the command line is read whatever ignores it.
+    named = CliRunner().invoke(cli, ["fmt", "--check", str(tmp_path / "generated" / "messy.script")])
+    assert named.exit_code == 1

@@ -15,7 +15,7 @@ import shutil
 import subprocess
 from pathlib import Path
 
-from scriptc.driver import SCRIPT_SUFFIX
+from scriptc.files import SCRIPT_SUFFIX
 
 VSCODE = Path(__file__).parent.parent / "lsp" / "vscode"
 

@@ -26,7 +26,8 @@ def finish(source: SourceFile, script: Script | None, front: list[Diagnostic], *
     if checked:
         from scriptc.check import check_script
 
-        diagnostics.extend(check_script(script, source, functions=functions, profile=profile))
+        diagnostics.extend(check_script(script, source, functions=functions, profile=profile,
+                                        kind=kind))
     diagnostics.sort(key=Diagnostic.sort_key)
     suppressed: list[Diagnostic] = []
     # Suppression comments are part of the script; one substring search when there are none.

@@ -163,45 +163,7 @@ def analyze_file(path: str | os.PathLike[str], kind: str = "script", name: str |
 
 
 # ---------------------------------------------------------------------------------------------
-# Finding script files
-
-SCRIPT_SUFFIX = ".script"
-
-
-def discover_scripts(paths: list[str] | tuple[str, ...], *, search_folders: bool = True
-                     ) -> list[str]:
-    """The files that `scriptc lint PATH...` reads, in order.
-
-    A file named on the command line is read whatever its suffix; a folder contributes its
-    `*.script` files, recursively, sorted, skipping hidden folders and hidden files (names
-    starting with a dot: `.git`, editor lock files), unless `search_folders` is false (then it
-    stays in the list, and reading it fails). `-` (stdin) is kept as it is. A file reached
-    twice is read once. Raises ReadError for a path that does not exist, before any is read.
-    """
-    missing = [p for p in paths if p != "-" and not os.path.lexists(p)]
-    if missing:
-        raise ReadError(f"`{missing[0]}` does not exist")
-    found: list[str] = []
-    seen: set[str] = set()
-
-    def add(p: str) -> None:
-        key = p if p == "-" else os.path.realpath(p)
-        if key not in seen:
-            seen.add(key)
-            found.append(p)
-
-    for path in paths:
-        if search_folders and path != "-" and os.path.isdir(path):
-            inner: list[str] = []
-            for root, dirs, files in os.walk(path):
-                dirs[:] = [d for d in dirs if not d.startswith(".")]
-                inner.extend(os.path.join(root, f) for f in files
-                             if f.endswith(SCRIPT_SUFFIX) and not f.startswith("."))
-            for p in sorted(inner):
-                add(p)
-        else:
-            add(path)
-    return found
+# Many files
 
 
 @dataclass
@@ -219,29 +181,6 @@ class Run:
         if self.problems:
             return 2
         return 1 if any(has_errors(r.diagnostics) for r in self.results) else 0
-
-
-def analyze_paths(paths: list[str] | tuple[str, ...], kind: str = "script", *,
-                  stdin: Callable[[], bytes] | None = None, stdin_name: str = "<stdin>",
-                  functions: FunctionRegistry = STANDARD) -> Run:
-    """Analyse every file named by `paths`: for script syntax, folders are searched for
-    `*.script` files (`discover_scripts`); thesis JSON is read from the files named only.
-    `-` reads `stdin()`. A path that does not exist raises ReadError before anything is read;
-    a file that cannot be read is recorded in `Run.problems` and the others go on. Without
-    configuration, cache or workers: `lint_paths` is what the CLI runs."""
-    files = discover_scripts(paths, search_folders=kind == "script")
-    run = Run()
-    for path in files:
-        try:
-            if path == "-":
-                if stdin is None:
-                    raise ReadError("reading stdin is not supported here")
-                run.results.append(analyze_bytes(stdin_name, stdin(), kind, functions))
-            else:
-                run.results.append(analyze_file(path, kind, functions=functions))
-        except ReadError as exc:
-            run.problems.append(str(exc))
-    return run
 
 
 # ---------------------------------------------------------------------------------------------
@@ -428,9 +367,12 @@ def available_cores() -> int:
 
 def discover(paths: list[str] | tuple[str, ...], kind: str = "script", *,
              resolver=None, force_exclude: bool = False) -> list[str]:
-    """The files `scriptc lint PATH...` reads, in order: as `discover_scripts`, and folders
-    skip what .gitignore files ignore and what the configuration excludes
-    (`scriptc.files`). With `force_exclude` the configuration's `exclude` applies to files
+    """The files `scriptc lint PATH...` and `scriptc fmt PATH...` read, in order. A file named
+    on the command line is read whatever its suffix; a folder contributes its `*.script` files
+    (only for `kind` "script"), recursively and sorted, skipping hidden files and folders,
+    what .gitignore files ignore and what the configuration excludes (`scriptc.files`); `-`
+    (stdin) is kept; a file reached twice is read once. Raises ReadError for a path that does
+    not exist, before any is read. With `force_exclude` the configuration's `exclude` applies to files
     named on the command line too (for pre-commit, which names every changed file)."""
     missing = [p for p in paths if p != "-" and not os.path.lexists(p)]
     if missing:

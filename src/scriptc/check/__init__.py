@@ -53,11 +53,13 @@ __all__ = ["PASSES", "Context", "check_script"]
 
 def check_script(
     script: Script, source: SourceFile, *, functions: FunctionRegistry = STANDARD,
-    profile: Profile | None = None,
+    profile: Profile | None = None, kind: str = "script",
 ) -> list[Diagnostic]:
     """Every diagnostic the semantic passes find in `script`, sorted by position. `profile`
-    is the robot profile the safety pass checks against (None: the defaults)."""
-    ctx = Context(script, source, functions, profile)
+    is the robot profile the safety pass checks against (None: the defaults); `kind` is the
+    syntax of `source`, "script" or "json" (thesis JSON gets no fixes: they are edits in
+    script syntax)."""
+    ctx = Context(script, source, functions, profile, kind)
     diagnostics: list[Diagnostic] = []
     for check in PASSES:
         diagnostics.extend(check(ctx))

@@ -34,18 +34,14 @@ class Context:
 
     def __init__(
         self, script: Script, source: SourceFile, functions: FunctionRegistry = STANDARD,
-        profile: Profile | None = None,
+        profile: Profile | None = None, kind: str = "script",
     ) -> None:
         self.script = script
         self.source = source
         self.functions = functions
+        # "script" or "json": fixes are text edits in script syntax, so JSON sources get none.
+        self.is_script_syntax = kind == "script"
         self.profile = profile if profile is not None else DEFAULT_PROFILE
-
-    @cached_property
-    def is_script_syntax(self) -> bool:
-        """True when the source is script syntax, False for thesis JSON (whose spans point
-        into JSON text, where a fix written in script syntax would make no sense)."""
-        return not self.source.text.lstrip("\ufeff \t\r\n").startswith("{")
 
     @cached_property
     def addressed_blocks(self) -> list[tuple[tuple[int, int, int], Block]]:

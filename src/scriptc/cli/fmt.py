@@ -62,7 +62,10 @@ def command(ctx: click.Context, paths: tuple[str, ...], check: bool, show_diff: 
     from scriptc.fmt import format_text
 
     try:
-        files = driver.discover_scripts(paths)
+        from scriptc.config import Resolver
+
+        # The same walk as `scriptc lint`: .gitignore and the configuration's exclusions.
+        files = driver.discover(paths, resolver=Resolver())
     except driver.ReadError as exc:
         raise CliError(str(exc)) from None
     if not files:
