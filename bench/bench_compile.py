@@ -20,7 +20,7 @@ from generate import big_script  # noqa: E402
 
 from scriptc.driver import analyze_script, emit  # noqa: E402
 from scriptc.source import SourceFile  # noqa: E402
-from scriptc.syntax.parser import script_parser  # noqa: E402
+from scriptc.syntax.parser import script_lark  # noqa: E402
 from scriptc.syntax.scan import scan  # noqa: E402
 
 
@@ -46,7 +46,7 @@ def main() -> None:
     big = big_script(10_000)
     small = big_script(1_000)
     mb = len(big.encode()) / 1e6
-    parser = script_parser()
+    parser = script_lark()
     items = [big[r.span.start : r.span.end] for r in scan(big).items]
     raw = best(lambda: [parser.parse(s, start="item") for s in items], args.runs)
     full = best(lambda: compile_text(big), args.runs)

@@ -19,7 +19,7 @@ from lark import Token, Tree
 from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit, diagnostic
 from scriptc.gcpause import gc_paused
 from scriptc.ir import nodes as ir
-from scriptc.ir.values import read_number
+from scriptc.ir.values import fields_pattern, read_number
 from scriptc.source import SourceFile, Span
 from scriptc.syntax.parser import ParsedScript, parse_condition_tree, parse_items
 
@@ -28,6 +28,9 @@ LED_FIELDS = ("r", "g", "b", "turnas", "wait_t", "duration")
 AUDIO_FIELDS = ("track_path", "wait_t", "duration")
 RULE_FIELDS = ("rulecode", "id", "intopic", "outtopic", "action", "mutex")
 TRACKS = ("MV", "LD", "AO")
+# A command string whose fields are all there and all numbers (the audio path aside).
+_WELL_FORMED = {"MV": fields_pattern(len(MOVE_FIELDS)), "LD": fields_pattern(len(LED_FIELDS)),
+                "AO": fields_pattern(len(AUDIO_FIELDS), text_first=True)}
 _ESCAPE = re.compile(r"\\(.)", re.DOTALL)
 _KNOWN_ESCAPE = re.compile(r'\\([\\"])')
 _TRUE_EVAL = re.compile(r"\{\s*TRUE\s*\}")
@@ -50,6 +53,10 @@ def _kind(node: Tree | Token) -> str:
     return kind
 
 
+# `Span(a, b)` without the named tuple's keyword-handling `__new__`: the leaves of a large
+# script make hundreds of thousands of spans.
+_span = tuple.__new__
+
 _PARENS = re.compile(r'"(?:\\.|[^"\\])*"|[()]')
 
 
@@ -67,11 +74,12 @@ class _Lowerer:
     # -- leaves ---------------------------------------------------------------------------
 
     def span(self, token: Token) -> Span:
-        return Span(self.base + token.start_pos, self.base + token.end_pos)
+        return _span(Span, (self.base + token.start_pos, self.base + token.end_pos))
 
     def name(self, token: Token, strip: int = 0) -> ir.Name:
-        s = self.span(token)
-        return ir.Name(str(token)[strip:], Span(s.start + strip, s.end))
+        base = self.base
+        return ir.Name(token.value[strip:],
+                       _span(Span, (base + token.start_pos + strip, base + token.end_pos)))
 
     def string(self, token: Token) -> ir.Text:
         """A string literal's value; unknown escapes are reported and kept as written."""
@@ -333,20 +341,24 @@ class _Lowerer:
     def instruction(self, label: ir.Name | None, body: Tree, span: Span) -> ir.InstructionBlock:
         tracks: dict[str, list] = {"MV": [], "LD": [], "AO": []}
         seen: list[tuple[str, Span]] = []
+        base, text_base = self.base, self.text_base
         for track in body.children:
-            name_t, *strings = track.children
-            track_name = str(name_t)
-            present = [t for t in strings if t is not None]
-            last = self.span(present[-1]).end if present else self.span(name_t).end
-            close = self.text.find(")", last - self.text_base)
-            end = self.text_base + close + 1 if close != -1 else last
-            seen.append((track_name, Span(self.span(name_t).start, end)))
-            for token in strings:
+            children = track.children
+            name_t = children[0]
+            track_name = name_t.value
+            commands = tracks[track_name]
+            last = name_t
+            for token in children[1:]:
                 if token is None:
                     continue
+                last = token
                 command = self.command(track_name, token)
                 if command is not None:
-                    tracks[track_name].append(command)
+                    commands.append(command)
+            last_end = base + last.end_pos
+            close = self.text.find(")", last_end - text_base)
+            end = text_base + close + 1 if close != -1 else last_end
+            seen.append((track_name, _span(Span, (base + name_t.start_pos, end))))
         self._check_tracks(seen, body, span)
         return ir.InstructionBlock(label, tuple(tracks["MV"]), tuple(tracks["LD"]), tuple(tracks["AO"]), span)
 
@@ -391,9 +403,24 @@ class _Lowerer:
         """Split a command string into its fields, each with its own span. The raw text is
         split (neither escape holds a comma), so spans are exact and blanks inside a field,
         such as an audio path's, are kept; each field is unescaped afterwards."""
+        raw = token.value[1:-1]
+        start = self.base + token.start_pos + 1
+        m = _WELL_FORMED[track].fullmatch(raw) if "\\" not in raw else None
+        if m is not None:
+            # The common case in one match: every field there and a number (the path of an
+            # audio command, text); what follows reads the same fields the same way.
+            whole = Span(start - 1, self.base + token.end_pos)
+            numbers = []
+            for i in range(1, m.lastindex + 1):
+                a, b = m.span(i)
+                numbers.append(ir.Number(raw[a:b], _span(Span, (start + a, start + b))))
+            if track == "MV":
+                return ir.MoveCommand(*numbers, span=whole)
+            if track == "LD":
+                return ir.LedCommand(*numbers, span=whole)
+            path = numbers.pop(0)
+            return ir.AudioCommand(ir.Text(path.text, path.span), *numbers, span=whole)
         self.string(token)  # reports unknown escapes once, for the whole string
-        raw = str(token)[1:-1]
-        start = self.span(token).start + 1
         fields = []
         pos = 0
         for part in raw.split(","):

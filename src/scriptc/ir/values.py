@@ -15,7 +15,19 @@ from scriptc.source import Span
 # LANGUAGE.md: decimal, optional sign and fraction. An exponent is accepted too (C++'s stof,
 # which read these fields on the robot, accepts it); ranges are checked by the checker.
 # ASCII digits only: `\d` would also accept digits of other scripts, which the robot cannot read.
-NUMBER_RE = re.compile(r"[+-]?([0-9]+(\.[0-9]*)?|\.[0-9]+)([eE][+-]?[0-9]+)?")
+NUMBER = r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?"
+NUMBER_RE = re.compile(NUMBER)
+
+
+def fields_pattern(count: int, text_first: bool = False) -> re.Pattern:
+    """A command string of `count` comma-separated numbers (the first a non-empty text when
+    `text_first`, which may itself hold commas, as an audio path), blanks around each: group i
+    is field i, trimmed as `str.strip` trims (`\\s` is `str.isspace`)."""
+    field = rf"\s*({NUMBER})\s*"
+    parts = [r"\s*(\S.*?)\s*"] + [field] * (count - 1) if text_first else [field] * count
+    return re.compile(",".join(parts), re.DOTALL)
+
+
 _NON_FINITE = re.compile(r"[+-]?(nan|inf|infinity)", re.IGNORECASE)
 
 

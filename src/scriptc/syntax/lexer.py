@@ -16,19 +16,23 @@ from lark.exceptions import UnexpectedCharacters, UnexpectedToken
 from lark.lexer import Lexer, PatternStr, Token
 
 
-def _token(type_: str, value: str, start: int, end: int) -> Token:
-    """A lark Token without the cost of its keyword-argument constructor."""
-    token = str.__new__(Token, value)
+_new_str = str.__new__
+
+
+def match_token(m: re.Match, group: str, type_: str) -> Token:
+    """The token of the terminal `type_` that group `group` of a scanner's match read: a lark
+    Token without the cost of its keyword-argument constructor."""
+    value = m.group(group)
+    token = _new_str(Token, value)
     token.type = type_
     token.value = value
-    token.start_pos = start
-    token.end_pos = end
+    token.start_pos, token.end_pos = m.span(group)
     token.line = token.column = token.end_line = token.end_column = None
     return token
 
 
 class _Scanner:
-    __slots__ = ("regex", "retype", "ignore")
+    __slots__ = ("regex", "retype", "ignore", "skip", "alternatives")
 
     def __init__(self, terminals, ignore: frozenset[str], skip: str = "") -> None:
         regexps = [t for t in terminals if not isinstance(t.pattern, PatternStr)]
@@ -47,9 +51,11 @@ class _Scanner:
             kept.append(t)
         kept.sort(key=lambda t: (-t.priority, -t.pattern.max_width, -len(t.pattern.value), t.name))
         # Whitespace (`skip`) is consumed in the same match as the token that follows it.
-        alternatives = "|".join(f"(?P<{t.name}>{t.pattern.to_regexp()})" for t in kept)
+        self.alternatives = [(t.name, t.pattern.to_regexp()) for t in kept]  # in match order
+        alternatives = "|".join(f"(?P<{name}>{regexp})" for name, regexp in self.alternatives)
         self.regex = re.compile(f"{skip}(?:{alternatives})")
         self.ignore = ignore
+        self.skip = skip
 
 
 class ContextualFastLexer(Lexer):
@@ -71,10 +77,14 @@ class ContextualFastLexer(Lexer):
         self._root: _Scanner | None = None
 
     def _scanner(self, parser_state) -> _Scanner:
-        position = parser_state.position
+        return self.scanner_for(parser_state.position, parser_state.parse_conf.parse_table)
+
+    def scanner_for(self, position: int, parse_table) -> _Scanner:
+        """The scanner of parser state `position`: the terminals that state accepts (built on
+        first use, shared by the states that accept the same terminals)."""
         scanner = self._by_state.get(position)
         if scanner is None:
-            accepts = frozenset(parser_state.parse_conf.parse_table.states[position])
+            accepts = frozenset(parse_table.states[position])
             scanner = self._by_accepts.get(accepts)
             if scanner is None:
                 names = accepts | self.ignore
@@ -107,18 +117,16 @@ class ContextualFastLexer(Lexer):
                     if pos >= end:
                         break
                 self._fail(text, pos, end, parser_state, lexer_state)
-            type_ = m.lastgroup
-            start = m.start(type_)
-            value = m.group(type_)
-            retype = scanner.retype.get(type_)
+            group = type_ = m.lastgroup
+            retype = scanner.retype.get(group)
             if retype is not None:
-                type_ = retype.get(value, type_)
+                type_ = retype.get(m.group(group), group)
             pos = m.end()
             if type_ in ignore:
                 if type_ in callbacks:
-                    callbacks[type_](_token(type_, value, start, pos))
+                    callbacks[type_](match_token(m, group, type_))
                 continue
-            token = _token(type_, value, start, pos)
+            token = match_token(m, group, type_)
             lexer_state.last_token = token
             yield token
 

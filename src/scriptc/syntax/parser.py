@@ -26,6 +26,7 @@ from scriptc.resources import grammar_path
 from scriptc.source import Span
 from scriptc.syntax.lexer import ContextualFastLexer
 from scriptc.syntax.scan import Scan, scan
+from scriptc.syntax.shapes import ShapeParser
 
 
 MAX_SYNTAX_ERRORS = 100
@@ -60,19 +61,27 @@ def _build(name: str, start: list[str]) -> Lark:
 
 
 @cache
-def script_parser() -> Lark:
+def script_lark() -> Lark:
+    """lark's parser of grammar/script.lark (start symbol `item`)."""
     return _build("script.lark", ["item"])
 
 
 @cache
-def condition_parser() -> Lark:
-    return _build("condition.lark", ["condition"])
+def script_parser() -> ShapeParser:
+    """The parser of items: lark's tables with the shape cache of syntax/shapes.py (the trees
+    and errors are lark's)."""
+    return ShapeParser(script_lark(), "item")
 
 
-def parse_items(text: str, *, scanned: Scan | None = None, parser: Lark | None = None
-                ) -> ParsedScript:
+@cache
+def condition_parser() -> ShapeParser:
+    return ShapeParser(_build("condition.lark", ["condition"]), "condition")
+
+
+def parse_items(text: str, *, scanned: Scan | None = None,
+                parser: ShapeParser | None = None) -> ParsedScript:
     """Scan `text` (or take `scanned`, the scan of this same text) and parse each item with
-    `parser` (default: the lark parser of grammar/script.lark). The language server passes a
+    `parser` (default: `script_parser()`, the parser of grammar/script.lark's items). The language server passes a
     parser that answers from its cache of item texts (scriptc.ide.incremental)."""
     scanned = scanned if scanned is not None else scan(text)
     parser = parser if parser is not None else script_parser()

@@ -1,0 +1,283 @@
+"""The item parser: lark's LALR(1) tables for a grammar, driven here, with a cache of the shapes
+of items.
+
+A script is a long list of items of few shapes: hundreds of `[b#..#blk_inst: MV("..") LD("..")
+AO("..")]` that differ only in their labels, numbers and strings. lark's parse loop spends
+about 3 us per token on them (bench/bench_frontend.py); this parser reads an item whose shape
+it has seen with one regex match per token and builds lark's own tree from a template.
+
+- **The table parse** (`_table_parse`): contextual lexing with the scanners of
+  `ContextualFastLexer` (in each parser state only the terminals that state accepts) and the
+  LALR loop over lark's own parse table, reducing through lark's own tree-building callbacks:
+  the tree is exactly the one lark builds. It also returns, for every token, its type and the
+  scanner that read it.
+- **The shape trie.** A node stands for a sequence of token types (a prefix of an item's
+  shape). The parser state after a prefix depends on the types alone (LALR actions read the
+  state and the terminal's type), so each node holds the scanner of that state: walking an item
+  down the trie lexes it exactly as the contextual lexer does, without the parse table. Where
+  an item ended, the node holds its tree's template: lark's callbacks shape the tree from the
+  rules and the types of the children, never their text, so every item of that shape has the
+  same tree with its own tokens at the leaves. The template is compiled into a function (Python
+  code building the `Tree`) the second time the shape is met.
+- **Errors are lark's.** Anything the trie and the table parse do not accept is handed to lark
+  itself, which raises the `UnexpectedInput` that `parser.describe` words: messages are those of
+  lark's parser, exactly. Attributes other than `parse` (the terminals `describe` reads) are
+  lark's.
+
+The trie is bounded (`MAX_NODES`): past it, it is dropped and starts again. tests/
+test_shapes.py checks that trees are lark's, for generated and hand-written items.
+"""
+
+from __future__ import annotations
+
+import re
+
+from lark import Lark, Token, Tree
+from lark.parsers.lalr_analysis import Shift
+
+from scriptc.syntax.lexer import match_token
+
+MAX_NODES = 100_000
+HOT = 8  # items of a shape before it gets its own regex
+
+
+class _Node:
+    __slots__ = ("match", "retype", "children", "template", "build", "steps", "seen", "hot",
+                 "next")
+
+    def __init__(self, scanner) -> None:
+        self.match = scanner.regex.match
+        self.retype = scanner.retype
+        self.children: dict[str, _Node] = {}
+        # Where an item ended (the node is a shape):
+        # the tree's code, reading the trie walk's matches and reading the one match of `hot`
+        self.template: tuple[tuple[str, list], tuple[str, list]] | None = None
+        self.build = None  # the compiled template, from the second item of this shape on
+        self.steps: list[tuple[str, str, object]] = []  # (group, type, scanner) per token
+        self.seen = 0  # items of this shape built by `build`
+        self.hot: _Hot | None = None  # the shape's own regex, from HOT items on
+        self.next: _Node | None = None  # the shape of the item that followed the last one
+
+
+class _Hot:
+    """A frequent shape's regex (one match reads the whole item), the test of the keywords'
+    values it cannot express, and the template over that one match."""
+
+    __slots__ = ("match", "check", "build")
+
+    def __init__(self, match, check, build) -> None:
+        self.match, self.check, self.build = match, check, build
+
+
+class ShapeParser:
+    """`parse(text, start)` as lark's, for the one start symbol `start`."""
+
+    def __init__(self, lark: Lark, start: str) -> None:
+        self._lark = lark
+        self.start = start
+        conf = lark.parser.parser.parser  # lark's LALR _Parser: its table and callbacks
+        self._table = conf.parse_table
+        self._callbacks = conf.callbacks
+        self._lexer = lark.parser.lexer  # a ContextualFastLexer
+        self._ignore = self._lexer.ignore
+        self._ws = re.compile(self._lexer.skip or r"\s*")
+        self._start_state = self._table.start_states[start]
+        self._end_state = self._table.end_states[start]
+        self._actions: dict[int, dict[str, tuple]] = {}
+        self._reset()
+
+    def __getattr__(self, name: str):
+        return getattr(self._lark, name)
+
+    def _reset(self) -> None:
+        self._root = _Node(self._scanner(self._start_state))
+        self._nodes = 1
+        self._last: _Node | None = None  # the shape of the item parsed last
+
+    def _scanner(self, state: int):
+        return self._lexer.scanner_for(state, self._table)
+
+    def parse(self, text: str, start: str | None = None) -> Tree:
+        if start is not None and start != self.start:
+            return self._lark.parse(text, start=start)
+        last = self._last
+        guess = last.next if last is not None else None
+        if guess is not None and guess.hot is not None:
+            # Items come in patterns (an instruction block, a jump, ...): try the shape that
+            # followed the last one, in one match.
+            hot = guess.hot
+            m = hot.match(text)
+            if m is not None and hot.check(m):
+                self._last = guess
+                return hot.build(m)
+        node = self._root
+        pos = 0
+        matches = []
+        append = matches.append
+        while True:
+            m = node.match(text, pos)
+            if m is None:
+                break
+            group = m.lastgroup
+            retype = node.retype.get(group)
+            type_ = retype.get(m.group(group), group) if retype is not None else group
+            append(m)
+            pos = m.end()
+            node = node.children.get(type_)
+            if node is None:
+                return self._new_shape(text)
+        build = node.build
+        if build is None or (pos != len(text) and self._ws.match(text, pos).end() != len(text)):
+            return self._new_shape(text)
+        if last is not None:
+            last.next = node
+        self._last = node
+        node.seen += 1
+        if node.seen == HOT:
+            node.hot = self._hot(node)
+        return build(matches)
+
+    # -- shapes not seen yet ----------------------------------------------------------------
+
+    def _new_shape(self, text: str) -> Tree:
+        parsed = self._table_parse(text)
+        if parsed is None:
+            return self._lark.parse(text, start=self.start)  # raises lark's error
+        tree, path, last = parsed
+        if self._nodes + len(path) > MAX_NODES:
+            self._reset()
+        node = self._root
+        for i, (_m, type_, _scanner) in enumerate(path):
+            child = node.children.get(type_)
+            if child is None:
+                # (after an ignored token, a comment, the state and so the scanner are the
+                # same; the node is another one: the template counts the comment's match)
+                child = node.children[type_] = _Node(path[i + 1][2] if i + 1 < len(path)
+                                                     else last)
+                self._nodes += 1
+            node = child
+        if node.template is None:
+            matches = [m for m, _, _ in path]
+            node.template = (
+                _template(tree, matches, lambda i: f"ms[{i}]", lambda i: matches[i].lastgroup),
+                _template(tree, matches, lambda i: "ms", lambda i: f"s{i}"))
+            node.steps = [(m.lastgroup, type_, scanner) for m, type_, scanner in path]
+        elif node.build is None:
+            node.build = _compile(*node.template[0])
+        self._last = None
+        return tree
+
+    def _hot(self, node: _Node) -> _Hot:
+        """The regex of a shape: per token, the scanner of its state (the whole scanner, in an
+        atomic group: the same first match) with the token's own alternative captured, and a
+        conditional that fails when another alternative matched; then only blanks. It matches
+        exactly the items the trie walk reads as this shape, but for the keywords: which of a
+        name's values are keywords is checked on the match (`check`)."""
+        parts = []
+        checks = []
+        constants: list = []
+        for i, (group, type_, scanner) in enumerate(node.steps):
+            alternatives = "|".join(
+                f"(?P<s{i}>{regexp})" if name == group else f"(?:{regexp})"
+                for name, regexp in scanner.alternatives)
+            parts.append(f"(?>{scanner.skip}(?:{alternatives}))(?(s{i})|(?!))")
+            keywords = scanner.retype.get(group)
+            if keywords is not None:
+                constants.append(keywords)
+                k = len(constants) - 1
+                if type_ == group:  # a name: none of the keywords
+                    checks.append(f"m.group('s{i}') not in C[{k}]")
+                else:  # a keyword: that one
+                    checks.append(f"C[{k}].get(m.group('s{i}')) == {type_!r}")
+        parts.append(f"{self._lexer.skip}\\Z")
+        check = _compile(f"def build(m, C=C):\n    return {' and '.join(checks) or 'True'}\n",
+                         constants)
+        return _Hot(re.compile("".join(parts)).match, check, _compile(*node.template[1]))
+
+    def _state_actions(self, state: int) -> dict[str, tuple]:
+        """The parse table's row of `state`: shift (next state, 0, None, None) or reduce
+        (None, the rule's length, lark's callback, the rule's non-terminal)."""
+        row = self._actions.get(state)
+        if row is None:
+            row = self._actions[state] = {
+                name: (arg, 0, None, None) if action is Shift
+                else (None, len(arg.expansion), self._callbacks[arg], arg.origin.name)
+                for name, (action, arg) in self._table.states[state].items()
+            }
+        return row
+
+    def _table_parse(self, text: str):
+        """lark's LALR loop over its own table: (tree, [(match, type, scanner) per token],
+        the scanner of the last state), or None where lark would raise."""
+        actions = self._state_actions
+        ignore = self._ignore
+        states = [self._start_state]
+        values: list = []
+        path = []
+        pos, end = 0, len(text)
+        while True:
+            scanner = self._scanner(states[-1])
+            m = scanner.regex.match(text, pos)
+            if m is None:
+                if pos < end and self._ws.match(text, pos).end() < end:
+                    return None
+                type_, token = "$END", None
+            else:
+                group = m.lastgroup
+                retype = scanner.retype.get(group)
+                type_ = retype.get(m.group(group), group) if retype is not None else group
+                path.append((m, type_, scanner))
+                pos = m.end()
+                if type_ in ignore:
+                    continue
+                token = match_token(m, group, type_)
+            row = actions(states[-1])
+            while True:
+                action = row.get(type_)
+                if action is None:
+                    return None
+                shift, size, callback, origin = action
+                if shift is not None:
+                    states.append(shift)
+                    values.append(token)
+                    break
+                children = values[-size:] if size else []
+                if size:
+                    del states[-size:], values[-size:]
+                values.append(callback(children))
+                state = actions(states[-1])[origin][0]
+                states.append(state)
+                if token is None and state == self._end_state:
+                    return values[-1], path, scanner
+                row = actions(state)
+
+
+def _compile(code: str, constants: list):
+    """The function `build` that `code` defines, reading `constants` as `C`."""
+    namespace = {"T": match_token, "Tree": Tree, "C": constants}
+    exec(compile(code, "<item shape>", "exec"), namespace)  # noqa: S102
+    return namespace["build"]
+
+
+def _template(tree: Tree, matches: list[re.Match], match_of, group_of) -> tuple[str, list]:
+    """Python code of a function `build(ms)` that builds `tree` again from the matches `ms` of
+    an item of the same shape, and the constants it reads (rule names and token types, as lark
+    made them). Token i is read from the match `match_of(i)`, group `group_of(i)`."""
+    index = {m.start(m.lastgroup): i for i, m in enumerate(matches)}
+    constants: list = []
+
+    def constant(value) -> str:
+        constants.append(value)
+        return f"C[{len(constants) - 1}]"
+
+    def code(node) -> str:
+        if node is None:
+            return "None"
+        if isinstance(node, Token):
+            i = index[node.start_pos]
+            return f"T({match_of(i)}, {constant(group_of(i))}, {constant(node.type)})"
+        children = ", ".join(code(child) for child in node.children)
+        return f"Tree({constant(node.data)}, [{children}])"
+
+    body = code(tree)
+    return f"def build(ms, T=T, Tree=Tree, C=C):\n    return {body}\n", constants

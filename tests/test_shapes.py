@@ -1,0 +1,112 @@
+"""The item parser with its shape cache (syntax/shapes.py) builds lark's own trees and raises
+lark's own errors: for every case file of the suite, for generated scripts and conditions, and
+for junk made of the language's pieces; the first, second and later items of a shape (table
+parse, recorded template, compiled template) alike."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from lark.exceptions import UnexpectedInput
+
+from scriptc.syntax import shapes
+from scriptc.syntax.parser import _build, script_lark
+from scriptc.syntax.scan import scan
+from scriptc.syntax.shapes import ShapeParser
+from strategies import conditions, scripts
+from test_properties import PIECES
+
+CASES = Path(__file__).parent / "cases"
+FAST = settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+
+
+def outcome(parse, text: str, start: str):
+    """The tree, or the error's class, position and expected set."""
+    try:
+        return parse(text, start=start)
+    except UnexpectedInput as error:
+        return (type(error).__name__, getattr(error, "pos_in_stream", None),
+                sorted(getattr(error, "expected", None) or getattr(error, "allowed", None) or ()))
+
+
+def items_of(text: str) -> list[str]:
+    return [text[r.span.start:r.span.end] for r in scan(text).items]
+
+
+def agree(parser: ShapeParser, lark, texts: list[str], start: str = "item") -> None:
+    # three rounds: the first item of a shape is table-parsed, the second compiles its
+    # template, the third on are built by the compiled template
+    for _ in range(3):
+        for text in texts:
+            assert outcome(parser.parse, text, start) == outcome(lark.parse, text, start), text
+
+
+def all_case_items() -> list[str]:
+    texts = []
+    for path in sorted(CASES.rglob("*.script")):
+        texts += items_of(path.read_text(encoding="utf-8", errors="replace"))
+    return texts
+
+
+def test_the_trees_of_every_case_file_are_larks() -> None:
+    texts = all_case_items()
+    assert len(texts) > 500
+    agree(ShapeParser(script_lark(), "item"), script_lark(), texts)
+
+
+def test_the_trees_are_larks_in_any_order() -> None:
+    texts = all_case_items()
+    agree(ShapeParser(script_lark(), "item"), script_lark(), texts[::-1])
+
+
+@FAST
+@given(scripts())
+def test_generated_scripts(text: str) -> None:
+    agree(ShapeParser(script_lark(), "item"), script_lark(), items_of(text))
+
+
+@FAST
+@given(st.lists(PIECES, max_size=40).map("".join))
+def test_junk_items_fail_as_lark_does(text: str) -> None:
+    agree(ShapeParser(script_lark(), "item"), script_lark(), ["[" + text + "]", text])
+
+
+@FAST
+@given(st.lists(conditions(), min_size=1, max_size=4))
+def test_conditions(texts: list[str]) -> None:
+    lark = _build("condition.lark", ["condition"])
+    agree(ShapeParser(lark, "condition"), lark, texts, "condition")
+
+
+def test_same_shape_other_comment_places() -> None:
+    """A comment is a token of the shape: items that differ only in where it stands are
+    different shapes (a template counts the comment's match)."""
+    texts = ['[b#a#blk_inst: MV("1,0,0,0,100") % one % LD()]',
+             '[b#a#blk_inst: MV("1,0,0,0,100") LD() % one %]',
+             '[b#a#blk_inst: % one % MV("1,0,0,0,100") LD()]']
+    agree(ShapeParser(script_lark(), "item"), script_lark(), texts)
+
+
+def test_keywords_that_are_names_elsewhere() -> None:
+    """`goal` and `b` are keywords where the parser accepts them and names elsewhere."""
+    texts = ["[goal:goal]", "[b#goal#blk_terminus]", "[b#b#blk_terminus]", "[goal:b]",
+             "[b#blk_inst#blk_inst:]", "[goalx]", "[b#x#blk_jump: CND(! {TRUE}) TRJMP(goal) "
+             "FLSJMP(b)]"]
+    agree(ShapeParser(script_lark(), "item"), script_lark(), texts)
+
+
+def test_the_trie_is_bounded(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(shapes, "MAX_NODES", 60)
+    parser = ShapeParser(script_lark(), "item")
+    texts = [f'[b#l{i}#blk_inst: {"MV() " * i}]' for i in range(1, 12)]
+    agree(parser, script_lark(), texts)
+    assert parser._nodes <= 60
+
+
+def test_a_start_symbol_of_its_own_goes_to_lark() -> None:
+    parser = ShapeParser(script_lark(), "item")
+    assert parser.parse("[x]", start="item") == script_lark().parse("[x]", start="item")
+    assert parser.terminals == script_lark().terminals  # describe() reads lark's terminals
