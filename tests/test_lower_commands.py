@@ -1,0 +1,65 @@
+"""Lowering reads a well-formed command string in one match (`ir/lower.py`, `_WELL_FORMED`)
+and any other by splitting it field by field: both ways give the same IR and diagnostics."""
+
+from __future__ import annotations
+
+import re
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from scriptc.ir import lower
+from scriptc.ir.lower import lower_script
+from scriptc.source import SourceFile
+
+FAST = settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+
+BLANKS = st.sampled_from(["", " ", "  ", "\t", "\n", "\u00a0", "\u2003"])
+NUMBERS = st.sampled_from(["0", "1", "-2", "+3", "0.5", ".5", "5.", "1e3", "2E-2", "1000",
+                           "nan", "inf", "x", "", "1.2.3", "٣", "1_0", "0x1"])
+PATHS = st.sampled_from(["songs/a.wav", "a, b.wav", "my song.wav", "", " ", "x,y,z", "é.wav"])
+
+
+@st.composite
+def fields(draw, count: int, path: bool) -> str:
+    n = draw(st.sampled_from([count, count, count, count - 1, count + 1, 1]))
+    values = [draw(NUMBERS) for _ in range(n)]
+    if path and values:
+        values[0] = draw(PATHS)
+    return ",".join(draw(BLANKS) + v + draw(BLANKS) for v in values)
+
+
+@st.composite
+def blocks(draw) -> str:
+    mv = draw(fields(5, False))
+    ld = draw(fields(6, False))
+    ao = draw(fields(3, True))
+    return (f'[a]\n[goal:g]\n[action]\n[b#x#blk_inst: MV("{mv}") LD("{ld}") AO("{ao}")]\n'
+            "[b##blk_terminus]\n")
+
+
+def lowered(text: str):
+    script, diagnostics = lower_script(SourceFile("t.script", text))
+    return script, [(d.code, d.message, d.span) for d in diagnostics]
+
+
+def field_by_field(text: str, monkeypatch: pytest.MonkeyPatch):
+    never = re.compile(r"(?!)")
+    with monkeypatch.context() as m:
+        m.setattr(lower, "_WELL_FORMED", {"MV": never, "LD": never, "AO": never})
+        return lowered(text)
+
+
+@FAST
+@given(blocks())
+def test_one_match_reads_as_field_by_field(text: str) -> None:
+    with pytest.MonkeyPatch.context() as monkeypatch:
+        assert lowered(text) == field_by_field(text, monkeypatch)
+
+
+@pytest.mark.parametrize("mv", ["1,0,0,0,100", " 1 , 0 ,0, 0 ,100 ", "\u00a01,0,0,0,100",
+                                "1e3,0,0,0,100", "1,0,0,0", "1,0,0,0,100,1", "a,0,0,0,100"])
+def test_examples(mv: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    text = f'[a]\n[goal:g]\n[action]\n[b#x#blk_inst: MV("{mv}") LD() AO("s, 0, 10")]\n'
+    assert lowered(text) == field_by_field(text, monkeypatch)
