@@ -307,11 +307,15 @@ class InstructionBlock:
         for track in (self.moves, self.leds, self.audios):
             total = 0
             for command in track:
-                for number in (command.wait_t, command.duration):
-                    if not number.is_integer_text:
+                wait, duration = command.wait_t.text, command.duration.text
+                if not (wait.isdigit() and duration.isdigit() and wait.isascii()
+                        and duration.isascii()):  # the common case first, then signs
+                    if not (command.wait_t.is_integer_text
+                            and command.duration.is_integer_text):
                         return None
-                    total += int(number.text)
-            longest = max(longest, total)
+                total += int(wait) + int(duration)
+            if total > longest:
+                longest = total
         return longest
 
 
