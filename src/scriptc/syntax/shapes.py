@@ -37,8 +37,11 @@ from lark.parsers.lalr_analysis import Shift
 
 from scriptc.syntax.lexer import match_token
 
-MAX_NODES = 100_000
-HOT = 8  # items of a shape before it gets its own regex
+MAX_NODES = 50_000
+# Items of a shape before it gets its own regex: compiling it takes 5-10 ms (Python's regex
+# compiler) and saves about 10 us per item; frequent shapes number in the thousands in a
+# repository of activities.
+HOT = 256
 
 
 class _Node:
@@ -81,6 +84,7 @@ class ShapeParser:
         self._lexer = lark.parser.lexer  # a ContextualFastLexer
         self._ignore = self._lexer.ignore
         self._ws = re.compile(self._lexer.skip or r"\s*")
+        self._skipped = {"WS"} if self._lexer.skip else set()  # the terminal `skip` reads
         self._start_state = self._table.start_states[start]
         self._end_state = self._table.end_states[start]
         self._actions: dict[int, dict[str, tuple]] = {}
@@ -177,10 +181,21 @@ class ShapeParser:
         checks = []
         constants: list = []
         for i, (group, type_, scanner) in enumerate(node.steps):
-            alternatives = "|".join(
-                f"(?P<s{i}>{regexp})" if name == group else f"(?:{regexp})"
-                for name, regexp in scanner.alternatives)
-            parts.append(f"(?>{scanner.skip}(?:{alternatives}))(?(s{i})|(?!))")
+            # The alternatives after the token's own are never tried when it matches: only
+            # those before it can take its place. Whitespace cannot either: the skip before
+            # took all of it (it matters only after every other alternative failed).
+            before = []
+            own = ""
+            for name, regexp in scanner.alternatives:
+                if name == group:
+                    own = f"(?P<s{i}>{regexp})"
+                    break
+                if name not in self._skipped:
+                    before.append(f"(?:{regexp})|")
+            if before:
+                parts.append(f"(?>{scanner.skip}(?:{''.join(before)}{own}))(?(s{i})|(?!))")
+            else:
+                parts.append(f"(?>{scanner.skip}{own})")
             keywords = scanner.retype.get(group)
             if keywords is not None:
                 constants.append(keywords)
