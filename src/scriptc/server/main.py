@@ -19,10 +19,13 @@ Decisions:
   requests are answered in every mode.
 - **The repository's configuration** applies as in `scriptc lint`: the functions a
   `scriptc.toml` declares and its policy (selection, per-file ignores, severities), read when
-  the document is opened.
-- **No `codeDescription`** on diagnostics: the codes have no public page, and a `command:`
-  link works in VS Code only. A hover on a code (in a suppression comment, say) shows its
-  explanation, and the command `scriptc.explain CODE` returns it as markdown.
+  the document is opened and again when a configuration file changes (the server asks the
+  client to watch `scriptc.toml` and `pyproject.toml` files; a client that cannot watch
+  files gets the configuration of the moment the document was opened).
+- **Codes link to their explanation**: a diagnostic's `codeDescription` is the explanation
+  file shipped in the package (the codes have no public page). A hover on a code (in a
+  suppression comment, say) shows it too, and the command `scriptc.explain CODE` returns it
+  as markdown.
 - **The garbage collector** is off while the server runs: the trees and IR of a large
   document are acyclic, and collections rescanning them after every keystroke cost 10-30 ms.
   Each analysis's survivors are frozen (`gc.freeze`), and a full collection runs when the
@@ -99,6 +102,7 @@ class ScriptcServer(LanguageServer):
         self.markdown_docs = False
         self._idle: asyncio.TimerHandle | None = None
         self._dirty: dict[str, Document] = {}  # documents whose diagnostics are due
+        self.pull = False  # the client pulls diagnostics
 
     # -- documents ---------------------------------------------------------------------------
 
@@ -198,7 +202,7 @@ def diagnostic_modes(capabilities: lsp.ClientCapabilities | None, options) -> tu
 @SERVER.feature(lsp.INITIALIZE)
 def initialize(ls: ScriptcServer, params: lsp.InitializeParams) -> None:
     capabilities = params.capabilities
-    ls.push = diagnostic_modes(capabilities, params.initialization_options)[0]
+    ls.push, ls.pull = diagnostic_modes(capabilities, params.initialization_options)
     text = capabilities.text_document if capabilities else None
     completion_caps = text.completion if text is not None else None
     item_caps = completion_caps.completion_item if completion_caps is not None else None
@@ -209,6 +213,41 @@ def initialize(ls: ScriptcServer, params: lsp.InitializeParams) -> None:
     from scriptc.syntax.parser import script_parser
 
     script_parser()
+
+
+# The configuration files `scriptc lint` reads (docs/configuration.md).
+CONFIGURATION_FILES = ("scriptc.toml", "pyproject.toml")
+
+
+@SERVER.feature(lsp.INITIALIZED)
+def initialized(ls: ScriptcServer, params: lsp.InitializedParams) -> None:
+    """Ask the client to report changes to the configuration files, when it can (the
+    protocol's way: the editor watches the files, not the server)."""
+    workspace = ls.client_capabilities.workspace
+    watched = workspace.did_change_watched_files if workspace is not None else None
+    if watched is None or not watched.dynamic_registration:
+        return
+    options = lsp.DidChangeWatchedFilesRegistrationOptions(
+        watchers=[lsp.FileSystemWatcher(glob_pattern=f"**/{name}") for name in CONFIGURATION_FILES])
+    ls.client_register_capability(lsp.RegistrationParams(registrations=[lsp.Registration(
+        id="scriptc-configuration", method=lsp.WORKSPACE_DID_CHANGE_WATCHED_FILES,
+        register_options=options)]))
+
+
+@SERVER.feature(lsp.WORKSPACE_DID_CHANGE_WATCHED_FILES)
+def did_change_watched_files(ls: ScriptcServer, params: lsp.DidChangeWatchedFilesParams) -> None:
+    """A configuration file was created, changed or deleted: every open document reads its
+    configuration again (as `scriptc lint` would now) and its diagnostics are renewed."""
+    names = {_path(change.uri).replace("\\", "/").rsplit("/", 1)[-1] for change in params.changes}
+    if not names & set(CONFIGURATION_FILES):
+        return
+    for uri, doc in list(ls.documents.items()):
+        ls.documents[uri] = fresh = _configured(uri, doc.text, doc.version)
+        ls.publish(fresh)
+    workspace = ls.client_capabilities.workspace
+    refresh = workspace.diagnostics if workspace is not None else None
+    if ls.pull and refresh is not None and refresh.refresh_support:
+        ls.workspace_diagnostic_refresh(None)
 
 
 def _configured(uri: str, text: str, version: int | None) -> Document:

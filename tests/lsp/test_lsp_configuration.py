@@ -1,0 +1,109 @@
+"""The repository's configuration in the language server: the server asks a client that can
+watch files to watch `scriptc.toml` and `pyproject.toml`, and when one changes, every open
+document reads its configuration again and gets new diagnostics."""
+
+from __future__ import annotations
+
+import asyncio
+
+import pytest
+import pytest_lsp
+from lsprotocol import types as lsp
+from pytest_lsp import ClientServerConfig, LanguageClient
+
+from lsptest import SERVER_COMMAND, TIMEOUT, Doc, capabilities, make_client
+
+pytestmark = pytest.mark.asyncio(loop_scope="module")
+
+# An instruction block after the terminus: F001 (unreachable), a warning.
+TEXT = ("[greet]\n[goal:g]\n  [action]\n    [b##blk_terminus]\n"
+        "    [b##blk_inst: MV() LD() AO()]\n")
+
+
+def watching_client() -> LanguageClient:
+    """The tests' client, which also answers `client/registerCapability` and keeps what the
+    server registered."""
+    client = make_client()
+    client.registrations = []
+
+    @client.feature(lsp.CLIENT_REGISTER_CAPABILITY)
+    def register(client: LanguageClient, params: lsp.RegistrationParams) -> None:
+        client.registrations.extend(params.registrations)
+
+    return client
+
+
+@pytest_lsp.fixture(scope="module", config=ClientServerConfig(
+    server_command=SERVER_COMMAND, client_factory=watching_client))
+async def client(lsp_client: LanguageClient):
+    caps = capabilities()
+    caps.workspace = lsp.WorkspaceClientCapabilities(
+        did_change_watched_files=lsp.DidChangeWatchedFilesClientCapabilities(
+            dynamic_registration=True))
+    await lsp_client.initialize_session(lsp.InitializeParams(capabilities=caps))
+    yield
+    await lsp_client.shutdown_session()
+
+
+async def registered(client: LanguageClient) -> list[lsp.Registration]:
+    async def wait():
+        while not client.registrations:
+            await asyncio.sleep(0.01)
+        return client.registrations
+
+    return await asyncio.wait_for(wait(), TIMEOUT)
+
+
+async def test_the_server_asks_to_watch_the_configuration_files(client):
+    (registration,) = await registered(client)
+    assert registration.method == lsp.WORKSPACE_DID_CHANGE_WATCHED_FILES
+    globs = [w["globPattern"] for w in registration.register_options["watchers"]]
+    assert globs == ["**/scriptc.toml", "**/pyproject.toml"]
+
+
+async def renewed(client: LanguageClient, doc: Doc, change: lsp.FileEvent):
+    """The diagnostics the server publishes after `change`."""
+    client.published.pop(doc.uri, None)
+    client.workspace_did_change_watched_files(lsp.DidChangeWatchedFilesParams([change]))
+    return await doc.diagnostics()
+
+
+async def test_a_changed_configuration_renews_the_diagnostics(client, tmp_path):
+    config = tmp_path / "scriptc.toml"
+    config.write_text('[lint]\nignore = ["F001"]\n', encoding="utf-8")
+    script = tmp_path / "activity.script"
+    script.write_text(TEXT, encoding="utf-8")
+    doc = Doc(client, script.as_uri(), TEXT)
+    client.text_document_did_open(lsp.DidOpenTextDocumentParams(
+        lsp.TextDocumentItem(doc.uri, "scriptc", doc.version, TEXT)))
+    assert [d.code for d in await doc.diagnostics()] == []  # ignored by the configuration
+
+    config.write_text('[lint]\nselect = ["F"]\n', encoding="utf-8")
+    got = await renewed(client, doc, lsp.FileEvent(config.as_uri(), lsp.FileChangeType.Changed))
+    assert [d.code for d in got] == ["F001"]
+
+    config.write_text('[lint]\nignore = ["F001"]\n', encoding="utf-8")
+    got = await renewed(client, doc, lsp.FileEvent(config.as_uri(), lsp.FileChangeType.Changed))
+    assert [d.code for d in got] == []
+
+    config.unlink()  # no configuration: the defaults report F001
+    got = await renewed(client, doc, lsp.FileEvent(config.as_uri(), lsp.FileChangeType.Deleted))
+    assert [d.code for d in got] == ["F001"]
+    doc.close()
+
+
+async def test_other_files_change_nothing(client, tmp_path):
+    config = tmp_path / "scriptc.toml"
+    config.write_text('[lint]\nignore = ["F001"]\n', encoding="utf-8")
+    script = tmp_path / "other.script"
+    doc = Doc(client, script.as_uri(), TEXT)
+    client.text_document_did_open(lsp.DidOpenTextDocumentParams(
+        lsp.TextDocumentItem(doc.uri, "scriptc", doc.version, TEXT)))
+    assert await doc.diagnostics() == []
+    config.unlink()
+    client.published.pop(doc.uri, None)
+    client.workspace_did_change_watched_files(lsp.DidChangeWatchedFilesParams(
+        [lsp.FileEvent((tmp_path / "notes.txt").as_uri(), lsp.FileChangeType.Created)]))
+    await asyncio.sleep(0.3)
+    assert doc.uri not in client.published  # nothing was re-read, nothing pushed
+    doc.close()
