@@ -63,3 +63,12 @@ def test_one_match_reads_as_field_by_field(text: str) -> None:
 def test_examples(mv: str, monkeypatch: pytest.MonkeyPatch) -> None:
     text = f'[a]\n[goal:g]\n[action]\n[b#x#blk_inst: MV("{mv}") LD() AO("s, 0, 10")]\n'
     assert lowered(text) == field_by_field(text, monkeypatch)
+
+
+@pytest.mark.parametrize("ao", ["songs/a.wav, ,0,0", "a,,0,0", " ,x,0,0", "a, ,b,0,0",
+                                "a b.wav ,0, 0", "x,y,z,1,2"])
+def test_audio_paths(ao: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The path is the text from its first part's first character to its last part's last,
+    blanks of a blank last part included (found by the property above)."""
+    text = f'[a]\n[goal:g]\n[action]\n[b#x#blk_inst: MV() LD() AO("{ao}")]\n'
+    assert lowered(text) == field_by_field(text, monkeypatch)

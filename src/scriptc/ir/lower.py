@@ -406,6 +406,8 @@ class _Lowerer:
         raw = token.value[1:-1]
         start = self.base + token.start_pos + 1
         m = _WELL_FORMED[track].fullmatch(raw) if "\\" not in raw else None
+        if m is not None and track == "AO" and m.group(1)[-1] == ",":
+            m = None  # the path's last part is blank: its blanks belong to the path (below)
         if m is not None:
             # The common case in one match: every field there and a number (the path of an
             # audio command, text); what follows reads the same fields the same way.
