@@ -91,7 +91,7 @@ def test_wrong_values_are_left_at_their_defaults() -> None:
     assert s.exclude == () and s.respect_gitignore is True and s.select == ()
     assert s.per_file_ignores == () and s.severity == ()
     assert s.robot.max_linear_speed is None and s.robot.max_volume is None
-    assert s.robot.min_human_distance is None
+    assert s.robot.min_human_distance is None and s.robot.max_led_flash_rate is None
     assert s.functions == ()  # each declaration is wrong somewhere
     assert [r.implementation for r in s.rules] == ["rules:greet"]  # the first of the two
 

@@ -24,6 +24,11 @@ from scriptc.source import SourceFile, Span
 
 CONFIG_FILES = ("scriptc.toml", "pyproject.toml")
 # Patterns are compiled on first use (`re` caches them): most runs never need them.
+# The lowest value of each `[robot]` key, and whether it is allowed (the schema's `minimum` or
+# `exclusiveMinimum`, schemas/config.schema.json; the validation reports values outside, these
+# keep them out of the profile). The others: greater than 0.
+_ROBOT_MINIMUM = {"min-human-distance": (0, True), "max-led-flash-rate": (1, True)}
+
 _TOOL_TABLE = r"^[ \t]*\[[ \t]*tool[ \t]*\.[ \t]*[\"']?scriptc\b"
 _TOML_POSITION = r"\(at line (\d+), column (\d+)\)$"
 
@@ -235,9 +240,9 @@ def build_settings(table: dict[str, Any], *, path: str | None = None, root: str 
     limits = {}
     for key in ROBOT_KEYS:
         value = _number(robot_table.get(key))
+        low, inclusive = _ROBOT_MINIMUM.get(key, (0, False))
         bounded = value is not None and value == value and (
-            value >= 0 if key == "min-human-distance" else value > 0) and (
-            key != "max-volume" or value <= 1)
+            value >= low if inclusive else value > low) and (key != "max-volume" or value <= 1)
         limits[key.replace("-", "_")] = value if bounded else None
 
     functions: list[UserFunction] = []
