@@ -1,5 +1,6 @@
-"""The MuJoCo robot (runtime/robots/mujoco.py, docs/robot.md): execution tests of the issue,
-the stepping rules, the silent-reset check, and simulated sensing."""
+"""The MuJoCo robot (runtime/robots/mujoco.py, docs/robot.md): execution tests of the issue
+(with and without the governor, whose ramps keep the distances of moves from rest), the
+stepping rules and ramps, the silent-reset check, and simulated sensing."""
 
 from __future__ import annotations
 
@@ -43,38 +44,53 @@ def run(text: str, world=None, profile=None, until=None):
 
 
 # ---------------------------------------------------------------------------------------------
-# The issue's execution tests
+# The issue's execution tests, without and with the governor (whose ramps keep the distance of
+# every move from rest to rest, per axis: docs/robot.md, "Acceleration")
+
+GOVERNED = pytest.mark.parametrize("profile", [None, DEFAULT_PROFILE],
+                                   ids=["ungoverned", "governed"])
 
 
-def test_a_square_of_four_moves_returns_to_the_origin() -> None:
+@GOVERNED
+def test_a_square_of_four_moves_returns_to_the_origin(profile) -> None:
     result, _ = run(moves("0.25, 0, 0, 0, 2000", "0, 0.25, 0, 0, 2000", "-0.25, 0, 0, 0, 2000",
-                          "0, -0.25, 0, 0, 2000"))
+                          "0, -0.25, 0, 0, 2000"), profile=profile)
     assert result.outcome == "completed" and result.time_ms == 8000
     assert math.hypot(result.pose.x, result.pose.y) < 0.01
     assert result.pose.x == pytest.approx(0.0, abs=1e-9)  # in fact exact
 
 
-def test_a_square_with_turns_returns_to_the_origin() -> None:
+@GOVERNED
+def test_a_square_with_turns_returns_to_the_origin(profile) -> None:
     quarter = "0, 0, 0.5, 0, 3142"  # ms are whole: 3.142 s at 0.5 rad/s is pi/2 within 2e-4
-    result, _ = run(moves(*(["0.25, 0, 0, 0, 2000", quarter] * 4)))
+    result, _ = run(moves(*(["0.25, 0, 0, 0, 2000", quarter] * 4)), profile=profile)
     assert math.hypot(result.pose.x, result.pose.y) < 0.01
 
 
-def test_a_quarter_meter_per_second_for_two_seconds_goes_half_a_meter() -> None:
-    result, _ = run(moves("0.25, 0, 0, 0, 2000"))
+@GOVERNED
+def test_a_quarter_meter_per_second_for_two_seconds_goes_half_a_meter(profile) -> None:
+    result, trace = run(moves("0.25, 0, 0, 0, 2000"), profile=profile)
     assert result.time_ms == 2000
     assert result.pose.x == pytest.approx(0.5, abs=1e-3)
     assert result.pose.y == 0.0 and result.pose.theta == 0.0
+    (end,) = trace.of_kind("session_end")
+    assert end["t"] == 2000
+    if profile is not None:  # still braking at the end: the physics goes on until it stops
+        assert end["at_rest_ms"] == 2250 and end["pose"]["x"] == pytest.approx(0.5, abs=1e-6)
+    else:
+        assert "at_rest_ms" not in end
 
 
-def test_a_turn_of_half_a_radian_per_second_for_a_second() -> None:
-    result, _ = run(moves("0, 0, 0.5, 0, 1000"))
+@GOVERNED
+def test_a_turn_of_half_a_radian_per_second_for_a_second(profile) -> None:
+    result, _ = run(moves("0, 0, 0.5, 0, 1000"), profile=profile)
     assert result.pose.theta == pytest.approx(0.5, abs=1e-3)
     assert math.hypot(result.pose.x, result.pose.y) < 1e-9
 
 
-def test_moves_are_in_the_body_frame() -> None:
-    result, _ = run(moves("0, 0, 0.5, 0, 3142", "0.25, 0, 0, 0, 2000"))
+@GOVERNED
+def test_moves_are_in_the_body_frame(profile) -> None:
+    result, _ = run(moves("0, 0, 0.5, 0, 3142", "0.25, 0, 0, 0, 2000"), profile=profile)
     assert result.pose.x == pytest.approx(0.0, abs=1e-3)
     assert result.pose.y == pytest.approx(0.5, abs=1e-3)
 
@@ -86,13 +102,29 @@ def test_the_governor_clamps_test_act_and_the_run_still_ends_at_16000_ms() -> No
                       profile=DEFAULT_PROFILE)
     result = session.run()
     assert result.outcome == "completed" and result.time_ms == 16000
+    (end,) = trace.of_kind("session_end")
+    assert end["t"] == 16000 and end["at_rest_ms"] == 16000  # at rest long before the end
     clamps = trace.of_kind("governor")
-    assert clamps and all("speed" in e["reasons"] for e in clamps[:4])
-    assert clamps[0]["commanded"]["v_x"] == 10.0
-    assert clamps[0]["applied"]["v_x"] == pytest.approx(DEFAULT_PROFILE.max_linear_speed)
-    # every velocity the physics got is within the profile
-    assert session.governor.clamps == len(clamps) == 6
+    # each of the six moves: slowed and ramped up at its start, ramped down at its stop
+    assert session.governor.clamps == len(clamps) == 12
+    starts, stops = clamps[0::2], clamps[1::2]
+    assert [e["t"] for e in starts] == [1000, 3000, 5000, 7000, 9000, 11000]
+    assert [e["t"] for e in stops] == [2000, 4000, 6000, 8000, 10000, 12000]
+    for e in starts[:4]:
+        assert e["reasons"] == ["speed", "acceleration"] and e["ramp_ms"] == 500
+        assert math.hypot(e["target"]["v_x"], e["target"]["v_y"]) == \
+            pytest.approx(DEFAULT_PROFILE.max_linear_speed)
+        assert e["applied"] == {"v_x": 0.0, "v_y": 0.0, "v_theta": 0.0}  # from rest
+    assert starts[0]["commanded"]["v_x"] == 10.0
+    for e in starts[4:]:  # 50 rad/s: 1.5 rad/s, reached in 0.5 s at 3 rad/s²
+        assert e["reasons"] == ["angular-speed", "angular-acceleration"]
+        assert abs(e["target"]["v_theta"]) == DEFAULT_PROFILE.max_angular_speed
+        assert e["ramp_ms"] == 500
+    for e in stops:
+        assert e["reasons"] in (["acceleration"], ["angular-acceleration"])
+        assert e["commanded"] == {"v_x": 0.0, "v_y": 0.0, "v_theta": 0.0}
     assert math.hypot(result.pose.x, result.pose.y) < 0.01
+    assert result.pose.theta == pytest.approx(0.0, abs=1e-9)
 
 
 def test_two_runs_give_bit_identical_traces() -> None:
@@ -161,6 +193,24 @@ def test_cli_default_robot_is_mujoco(tmp_path: Path) -> None:
     assert '"robot":"mujoco"' in first
 
 
+def test_the_summary_says_when_the_robot_came_to_rest(tmp_path: Path) -> None:
+    """A move running to the script's end: the governed robot brakes after it (0.25 m/s at
+    1 m/s² takes 250 ms), the summary and the JSON say when it stopped."""
+    import json
+
+    script = tmp_path / "m.script"
+    script.write_text(moves("0.25, 0, 0, 0, 2000"), encoding="utf-8")
+    text = CliRunner().invoke(cli, ["run", str(script)], catch_exceptions=False).stdout
+    assert text.startswith("completed at 2000 ms")
+    assert "pose: x = 0.5000 m, y = 0.0000 m, theta = 0.0000 rad (where it came to rest at " \
+           "2250 ms, braking after the end)" in text
+    data = json.loads(CliRunner().invoke(cli, ["run", str(script), "--json"]).stdout)
+    assert data["time_ms"] == 2000 and data["at_rest_ms"] == 2250
+    ideal = json.loads(CliRunner().invoke(cli, ["run", str(script), "--json", "--robot",
+                                                "kinematic"]).stdout)
+    assert "at_rest_ms" not in ideal  # no governor: nothing brakes
+
+
 # ---------------------------------------------------------------------------------------------
 # Simulated sensing
 
@@ -180,10 +230,18 @@ def test_approach_the_child_stops_closer_than_half_a_metre() -> None:
     result, trace = run(APPROACH, APPROACH_WORLD, profile=DEFAULT_PROFILE, until=60_000)
     assert result.outcome == "completed"
     distance = 2.0 - result.pose.x
-    assert 0.45 < distance < 0.5
+    # The reading at 6200 ms sees 0.48 m; braking at the limit from 0.25 m/s takes 3.1 cm more
+    # (what the ramp up lost at the start): it stops 0.45 m away, short of the child and
+    # beyond the profile's minimum distance.
+    assert DEFAULT_PROFILE.min_human_distance < distance < 0.5
+    assert distance == pytest.approx(0.45, abs=1e-3)
     jumps = trace.of_kind("jump")
     assert jumps[-1]["value"] is True and all(j["value"] is False for j in jumps[:-1])
-    assert not trace.of_kind("governor")  # 0.25 m/s, and never closer than 0.4 m
+    # 0.25 m/s, never closer than 0.4 m: only the ramps at the start and at the stop (the
+    # 100 ms moves follow each other at the same millisecond: the wheels never stop between)
+    clamps = trace.of_kind("governor")
+    assert [(e["t"], e["reasons"]) for e in clamps] == [(0, ["acceleration"]),
+                                                         (6200, ["acceleration"])]
     sensed = [e for e in trace.of_kind("update") if e["objectid"] == "Human/kid1"]
     assert sensed and sensed[0]["value"]["positionrho"] == 2.0
 
@@ -210,7 +268,13 @@ def test_a_profile_changes_the_limits() -> None:
     slow = Profile(max_linear_speed=0.1)
     result, trace = run(moves("0.25, 0, 0, 0, 2000"), profile=slow)
     assert result.pose.x == pytest.approx(0.2, abs=1e-3)
-    assert trace.of_kind("governor")[0]["reasons"] == ["speed"]
+    first = trace.of_kind("governor")[0]
+    assert first["reasons"] == ["speed", "acceleration"] and first["ramp_ms"] == 100
+    gentle = Profile(max_linear_acceleration=0.25)
+    result, trace = run(moves("0.25, 0, 0, 0, 2000"), profile=gentle)
+    assert result.pose.x == pytest.approx(0.5, abs=1e-6)  # rest to rest: the distance is kept
+    assert trace.of_kind("governor")[0]["ramp_ms"] == 1000
+    assert trace.of_kind("session_end")[0]["at_rest_ms"] == 3000
 
 
 def test_the_model_is_package_data() -> None:

@@ -19,10 +19,10 @@ from typing import Any
 class Profile:
     max_linear_speed: float = 0.5  # m/s, the speed of the base in the plane
     max_angular_speed: float = 1.5  # rad/s
-    max_linear_acceleration: float = 1.0  # m/s², static check only (K003)
-    max_angular_acceleration: float = 3.0  # rad/s², static check only (K003)
+    max_linear_acceleration: float = 1.0  # m/s²: the governor ramps v_x and v_y at this rate
+    max_angular_acceleration: float = 3.0  # rad/s²: the governor ramps v_theta at this rate
     min_human_distance: float = 0.4  # m: the governor holds the wheels closer than this
-    max_led_flash_rate: float = 3.0  # Hz: WCAG 2.3.1 (three flashes), photosensitivity
+    max_led_flash_rate: float = 3.0  # Hz: WCAG 2.3.1 (three flashes); K002 and the governor
     max_volume: float = 0.8  # fraction of full volume (audio has no volume field yet)
     source: str = "defaults"  # where the values came from (a configuration file's path)
 

@@ -1,25 +1,59 @@
 """The safety governor: a `Robot` wrapper between the actuators and the backend that keeps
-every velocity within the robot profile (docs/robot.md). A script is never refused for being
-too fast: it is slowed.
+every velocity and the LEDs within the robot profile (docs/robot.md, "The governor"). A script
+is never refused for being too fast: it is slowed, ramped, held.
 
 - Speed: the planar speed |(v_x, v_y)| is scaled down to `max_linear_speed` (the direction is
   kept), |v_theta| is clamped to `max_angular_speed`. Durations are untouched, so the timing of
   the script (and of the run) is what it was: a clamped move goes less far, not longer.
-- People: with simulated sensing, when a Human is closer than `min_human_distance` and the
-  command would bring the robot closer, the wheels are held (translation zeroed, turning
-  allowed) until the command or the distance changes.
+- People: with simulated sensing, when a Human is closer than `min_human_distance` plus the
+  distance the robot needs to brake toward them, and the command would bring the robot closer,
+  translation is held (turning allowed) until the command or the distance changes.
+- Acceleration: the velocity the robot is given changes per axis of the body frame at most at
+  `max_linear_acceleration` (v_x, v_y) and `max_angular_acceleration` (v_theta), as ROS 2
+  nav2's velocity smoother does: a step of the command becomes a linear ramp at the limit
+  (`robots.Ramp`, on the 1 ms grid; the backend steps it). v_x and v_y ramp together over the
+  time the larger change needs (nav2's `scale_velocities`), so the planar speed stays within
+  its limit during the ramp. The hold brakes at the limit too. A move from rest to rest keeps
+  its distance per axis: the ramp down after the command's stop gives back what the ramp up
+  lost.
+- LEDs: at most `max_led_flash_rate` onsets (dark to lit) in any one-second window, as K002
+  counts them. An onset beyond it is not shown: the LEDs stay dark until the window allows
+  one, then show what the script asks at that moment (the session wakes the governor then).
+  A colour change while lit is not a flash; going dark is always allowed.
 
-Every clamp is written in the trace as a `governor` event with the commanded and the applied
-velocity and the reason (`speed`, `angular-speed`, `human-distance`), and counted in
-`clamps`.
+A command is applied at the end of the instant it was given in (`end_instant`; or when time
+moves on), so commands that cancel out within one millisecond (a move's stop and the next
+move's start) are not ramps. Every clamp is written in the trace as a `governor` event with the
+`reasons` (`speed`, `angular-speed`, `human-distance`, `acceleration`, `angular-acceleration`,
+`led-flash`), the `commanded` and the `applied` value, and for a ramp its `target` and
+`ramp_ms`; for a held onset, `until`. Each is counted in `clamps`.
 """
 
 from __future__ import annotations
 
 import math
+from collections import deque
 
 from scriptc.profile import DEFAULT_PROFILE, Profile
-from scriptc.runtime.robots import Pose
+from scriptc.runtime.clock import PRIO_UPDATE
+from scriptc.runtime.robots import Pose, Ramp
+
+# The governor's wake-up (a held LED onset's window frees) runs after every other event of its
+# millisecond, so it sees the LEDs the tracks set at that millisecond.
+PRIO_WAKE = PRIO_UPDATE + 1
+WINDOW_MS = 1000  # the flash limit's window, as K002's (check/safety.py)
+ZERO = (0.0, 0.0, 0.0)
+
+Rgb = tuple[float, float, float]
+
+
+def _velocity(v) -> dict:
+    return {"v_x": v[0], "v_y": v[1], "v_theta": v[2]}
+
+
+def _lit(rgb: Rgb | None) -> bool:
+    """Black with `turnas` 1 is dark, as K002 counts it."""
+    return rgb is not None and any(c > 0 for c in rgb)
 
 
 class Governor:
@@ -28,18 +62,40 @@ class Governor:
         self.profile = profile
         self.trace = trace
         self.name = getattr(robot, "name", type(robot).__name__)
-        self.commanded = (0.0, 0.0, 0.0)
-        self.applied = (0.0, 0.0, 0.0)
+        p = profile
+        self.rates = (p.max_linear_acceleration, p.max_linear_acceleration,
+                      p.max_angular_acceleration)
+        self.commanded = ZERO  # the last command (script or operator)
+        self.target = ZERO  # the velocity the limits allow for it: the robot is at it or ramping
+        self.ramp: Ramp | None = None
         self.clamps = 0
+        self._pending: int | None = None  # the instant whose command is still to be applied
+        self._last_command = ZERO  # the command applied last
         # callback(t_ms, pose) -> (distance m, bearing rad in the body frame) | None
         self.nearest = None
+        # The LEDs: what the script asks, what is shown, the onsets shown in the last window,
+        # and while an onset is held, when the window allows one. `wake(t)` (set by the
+        # session) asks to be called back with `wake_led` at t.
+        self.led_asked: Rgb | None = None
+        self.led_shown: Rgb | None = None
+        self.held_until: int | None = None
+        self._onsets: deque[int] = deque()
+        self._max_onsets = math.floor(p.max_led_flash_rate)  # K002: count > rate is too many
+        self._show = getattr(robot, "set_led", None)
+        self.wake = None
 
     def __getattr__(self, name: str):
         return getattr(self.robot, name)
 
+    # -- velocity -----------------------------------------------------------------------------
+
+    def velocity_at(self, t_ms: int) -> tuple[float, float, float]:
+        """The velocity the robot has at `t_ms` (from the last applied command on)."""
+        return self.ramp.velocity(t_ms) if self.ramp is not None else self.target
+
     def limit(self, v_x: float, v_y: float, v_theta: float,
               t_ms: int = 0) -> tuple[tuple[float, float, float], list[str]]:
-        """The velocity the profile allows for a command, and why it differs."""
+        """The velocity the profile allows for a command at `t_ms`, and why it differs."""
         p = self.profile
         reasons = []
         speed = math.hypot(v_x, v_y)
@@ -54,37 +110,153 @@ class Governor:
             near = self.nearest(t_ms, self.robot.pose())
             if near is not None:
                 distance, bearing = near
-                toward = v_x * math.cos(bearing) + v_y * math.sin(bearing)
-                if distance < p.min_human_distance and toward > 0:
+                c, s = math.cos(bearing), math.sin(bearing)
+                if v_x * c + v_y * s > 0 and \
+                        distance - self._braking(t_ms, c, s) < p.min_human_distance:
                     v_x = v_y = 0.0
                     reasons.append("human-distance")
         return (v_x, v_y, v_theta), reasons
 
-    def set_velocity(self, t_ms: int, v_x: float, v_y: float, v_theta: float) -> None:
-        self.commanded = (float(v_x), float(v_y), float(v_theta))
-        self.robot.advance(t_ms)
-        self._apply(t_ms)
+    def _braking(self, t_ms: int, c: float, s: float) -> float:
+        """How far toward the bearing (c, s) the robot goes if it brakes now at the limit (in a
+        straight line, over max(|v_x|, |v_y|) / a: half its velocity times that)."""
+        a = self.profile.max_linear_acceleration
+        if not 0.0 < a < math.inf:
+            return 0.0
+        vx, vy, _ = self.velocity_at(t_ms)
+        return max(0.0, (vx * c + vy * s) * max(abs(vx), abs(vy)) / (2.0 * a))
 
-    def _apply(self, t_ms: int) -> None:
-        v, reasons = self.limit(*self.commanded, t_ms)
-        if reasons and self.trace is not None:
-            self.clamps += 1
-            c = self.commanded
-            self.trace.emit(t_ms, "governor", reasons=reasons,
-                            commanded={"v_x": c[0], "v_y": c[1], "v_theta": c[2]},
-                            applied={"v_x": v[0], "v_y": v[1], "v_theta": v[2]})
-        if v != self.applied:
-            self.applied = v
-            self.robot.set_velocity(t_ms, *v)
+    def set_velocity(self, t_ms: int, v_x: float, v_y: float, v_theta: float) -> None:
+        """A command from `t_ms` on; applied at the end of that instant."""
+        self._due(t_ms)
+        self.commanded = (float(v_x), float(v_y), float(v_theta))
 
     def recheck(self, t_ms: int) -> None:
-        """Sensing saw the people move: apply the limits again to the same command."""
-        v, _ = self.limit(*self.commanded, t_ms)
-        if v != self.applied:
-            self._apply(t_ms)
+        """Sensing saw the people move: the limits are applied again at the end of the
+        instant to the same command."""
+        self._due(t_ms)
+
+    def _due(self, t_ms: int) -> None:
+        if self._pending is not None and t_ms > self._pending:
+            self.flush()
+        self._pending = t_ms
+
+    def flush(self) -> None:
+        """Apply the command of the pending instant, if any."""
+        t = self._pending
+        if t is None:
+            return
+        self._pending = None
+        self.robot.advance(t)
+        command = self.commanded
+        target, reasons = self.limit(*command, t)
+        new = command != self._last_command
+        self._last_command = command
+        if target == self.target and not (new and reasons):
+            return
+        applied = self.velocity_at(t)
+        ramp = None
+        if target != self.target:
+            ramp = Ramp.between(t, applied, target, self.rates)
+            self.ramp, self.target = ramp, target
+            self.robot.set_velocity(t, *target, rates=self.rates)
+            if ramp is None:
+                applied = target
+            else:
+                if max(ramp.steps[:2]) > 1:
+                    reasons.append("acceleration")
+                if ramp.steps[2] > 1:
+                    reasons.append("angular-acceleration")
+        if reasons:
+            fields = {"reasons": reasons, "commanded": _velocity(command),
+                      "applied": _velocity(applied)}
+            if ramp is not None:
+                fields["target"] = _velocity(target)
+                fields["ramp_ms"] = ramp.end - t
+            self._log(t, fields)
+
+    def _log(self, t_ms: int, fields: dict) -> None:
+        self.clamps += 1
+        if self.trace is not None:
+            self.trace.emit(t_ms, "governor", **fields)
 
     def advance(self, t_ms: int) -> None:
+        if self._pending is not None and t_ms > self._pending:
+            self.flush()
         self.robot.advance(t_ms)
 
     def pose(self) -> Pose:
         return self.robot.pose()
+
+    def end_instant(self, t_ms: int, led: Rgb | None) -> None:
+        """The end of the instant `t_ms` (the session calls it after each): apply the pending
+        command, show the LEDs the script asks for as far as the flash limit allows."""
+        self.flush()
+        self.show_led(t_ms, led)
+
+    def come_to_rest(self, t_ms: int) -> int:
+        """The session is over at `t_ms`: the robot brakes at the limit (from a command still
+        running, the session's end is a zero command) and the backend is stepped until it is at
+        rest. Returns the millisecond it is at rest."""
+        self.flush()
+        if self.target != ZERO:
+            self._pending = t_ms
+            self.commanded = ZERO
+            self.flush()
+        rest = max(t_ms, self.ramp.end if self.ramp is not None else t_ms)
+        self.robot.advance(rest)
+        self.ramp = None
+        return rest
+
+    # -- LEDs ---------------------------------------------------------------------------------
+
+    def show_led(self, t_ms: int, rgb: Rgb | None) -> None:
+        """The script asks for `rgb` (None: off) from `t_ms` on."""
+        asked_before = self.led_asked
+        self.led_asked = rgb
+        if self.held_until is not None and t_ms >= self.held_until:
+            self.held_until = None
+        if not _lit(rgb) or _lit(self.led_shown):
+            self._display(rgb)  # going dark, or a change while lit: never a flash
+            return
+        if self.held_until is not None:  # an onset is held: stay dark
+            if not _lit(asked_before):  # a new onset, held as well
+                self._hold(t_ms, rgb, self.held_until)
+            return
+        free = self._window_free(t_ms)
+        if free is None or free > t_ms:
+            self._hold(t_ms, rgb, free)
+        else:
+            self._onsets.append(t_ms)
+            self._display(rgb)
+
+    def wake_led(self, t_ms: int, rgb: Rgb | None) -> None:
+        """The window of a held onset frees at `t_ms`: show what the script asks now."""
+        if self.held_until is None or t_ms < self.held_until:
+            return
+        self.show_led(t_ms, rgb)
+
+    def _window_free(self, t_ms: int) -> int | None:
+        """When an onset is allowed (from `t_ms` on), None: never (a rate below 1 Hz)."""
+        onsets = self._onsets
+        while onsets and onsets[0] <= t_ms - WINDOW_MS:
+            onsets.popleft()
+        if self._max_onsets < 1:
+            return None
+        if len(onsets) < self._max_onsets:
+            return t_ms
+        return onsets[len(onsets) - self._max_onsets] + WINDOW_MS
+
+    def _hold(self, t_ms: int, rgb: Rgb, until: int | None) -> None:
+        self._display(None)
+        if until is not None and self.held_until is None and self.wake is not None:
+            self.wake(until)
+        self.held_until = until
+        self._log(t_ms, {"reasons": ["led-flash"], "commanded": {"led": list(rgb)},
+                         "applied": {"led": None}, "until": until})
+
+    def _display(self, rgb: Rgb | None) -> None:
+        if rgb != self.led_shown:
+            self.led_shown = rgb
+            if self._show is not None:
+                self._show(rgb)

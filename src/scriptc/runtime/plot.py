@@ -38,9 +38,10 @@ class PathRecorder:
             p = self.robot.pose()
             self.samples.append((step, p.x, p.y, p.theta))
 
-    def set_velocity(self, t_ms: int, v_x: float, v_y: float, v_theta: float) -> None:
+    def set_velocity(self, t_ms: int, v_x: float, v_y: float, v_theta: float,
+                     rates: tuple[float, float, float] | None = None) -> None:
         self.advance(t_ms)
-        self.robot.set_velocity(t_ms, v_x, v_y, v_theta)
+        self.robot.set_velocity(t_ms, v_x, v_y, v_theta, rates=rates)
 
     def pose(self) -> Pose:
         return self.robot.pose()
@@ -75,7 +76,7 @@ def plot_run(events: list[dict], path: str, samples=None, scenario=None) -> None
     from matplotlib import pyplot as plt
     from matplotlib.patches import Circle, FancyArrow
 
-    end = max((e["t"] for e in events), default=0) or 1
+    end = max((max(e["t"], e.get("at_rest_ms", 0)) for e in events), default=0) or 1
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 9),
                                       gridspec_kw={"height_ratios": [3, 1.3]})
     # -- the trajectory from above -----------------------------------------------------------
@@ -138,12 +139,19 @@ def plot_run(events: list[dict], path: str, samples=None, scenario=None) -> None
         if e["event"] == "block":
             bottom.axvline(e["t"] / 1000.0, color="#888888", lw=0.6, ls=":")
         elif e["event"] == "governor":
-            bottom.plot([e["t"] / 1000.0], [lane["move"] + 0.45], marker="v", color="#d62728",
-                        ms=5)
+            led = "led-flash" in e["reasons"]
+            y = lane["led" if led else "move"]
+            bottom.plot([e["t"] / 1000.0], [y + 0.45], marker="v", color="#d62728", ms=5)
+            # a ramp, or an LED onset held dark: a red bar under the lane for its duration
+            until = e["t"] + e["ramp_ms"] if "ramp_ms" in e else e.get("until")
+            if until is not None:
+                bottom.broken_barh([(e["t"] / 1000.0, (until - e["t"]) / 1000.0)],
+                                   (y - 0.45, 0.08), facecolors=["#d62728"])
     bottom.set_yticks([lane[t] for t in _TRACKS], list(_TRACKS))
     bottom.set_ylim(-0.6, len(_TRACKS) - 0.2)
     bottom.set_xlim(0, end / 1000.0)
-    bottom.set_xlabel("time (s); dotted: a block is issued; red marks: the governor clamped")
+    bottom.set_xlabel("time (s); dotted: a block is issued; red marks: the governor clamped "
+                      "(bars: ramps, LEDs held dark)")
     bottom.set_title("tracks per block")
     fig.tight_layout()
     fig.savefig(path)

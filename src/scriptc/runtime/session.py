@@ -15,7 +15,10 @@ One loop (`_iterate`), at the instant `now`:
 Step 3, "wait for something to change", is the event queue: the session jumps to the next
 event (a track's next phase, an operator event, a sensor update), runs its handlers, and loops
 again at that instant until nothing more happens there (a rule's override, a block consumed as
-it is issued, updates a rule posted). Nothing reads the wall clock.
+it is issued, updates a rule posted). Nothing reads the wall clock. At the end of each instant
+the outputs go to the robot: with the safety governor (a profile), it applies the instant's
+velocity command then (its ramps, runtime/governor.py) and shows the LEDs its flash limit
+allows; a held LED onset gets a wake-up event that is not an instant of the loop.
 
 The session ends when every queued script has ended (`stop_when_done`, what `scriptc run`
 does: it does not sit in `idle_activity`), at `until`, when nothing can happen any more
@@ -85,9 +88,12 @@ class Result:
     errors: list[dict]
     events: int
     trace: Trace
+    # With the governor: the millisecond the robot came to rest after the activity's end
+    # (it brakes at the profile's accelerations; `pose` is where it stopped).
+    at_rest_ms: int | None = None
 
     def as_dict(self) -> dict:
-        return {
+        data = {
             "outcome": self.outcome,
             "time_ms": self.time_ms,
             "pose": self.pose.as_dict(),
@@ -95,6 +101,9 @@ class Result:
             "errors": [{k: v for k, v in e.items() if k != "event"} for e in self.errors],
             "events": self.events,
         }
+        if self.at_rest_ms is not None:
+            data["at_rest_ms"] = self.at_rest_ms
+        return data
 
 
 class Session:
@@ -123,9 +132,12 @@ class Session:
         # simulated sensing of the scenario's placed entities (runtime/sensing.py).
         self.governor = None
         if profile is not None:
-            from scriptc.runtime.governor import Governor
+            from scriptc.runtime.governor import PRIO_WAKE, Governor
 
             self.robot = self.governor = Governor(self.robot, profile, self.trace)
+            # A held LED onset: the governor is woken when the flash window frees (an event
+            # only runs that hold LEDs get; its handler is not a loop of the session).
+            self.governor.wake = lambda t: self.queue.push(t, PRIO_WAKE, self._on_wake, None)
         self.sensing = None
         if scenario is not None and scenario.entities:
             from scriptc.runtime.sensing import Sensing
@@ -134,7 +146,10 @@ class Session:
                                    scenario.sensing_range)
             if self.governor is not None:
                 self.governor.nearest = self.sensing.nearest_human
-        self._show_outputs = hasattr(self.robot, "set_led")
+        # A backend that shows the LEDs and the speaker (MuJoCo's model); the governor sees the
+        # LEDs and applies its pending command at the end of every instant.
+        self._shows = hasattr(self.robot, "set_led")
+        self._show_outputs = self._shows or self.governor is not None
         self.actuators = Actuators(self.queue, self.robot, self.trace, self.world)
         self.actuators.on_consumed = self._consumed
         self.chain = RuleChain()
@@ -187,19 +202,26 @@ class Session:
                 self.queue.push(op.at, PRIO_OPERATOR, self._on_operator, op)
         if self.sensing is not None:
             self.queue.push(0, PRIO_UPDATE, self._on_sense, None)
+        failed = False
         try:
             self._loop(until)
         except RobotFailure as exc:
             self._fatal(self.now, "robot-unstable", str(exc))
+            failed = True
+        settled = {}
         try:
             self.robot.advance(self.now)
+            if self.governor is not None and not failed:
+                # The activity is over, the robot may still be braking: the physics goes on
+                # until it is at rest, and the pose is where it stops (docs/robot.md).
+                settled["at_rest_ms"] = self.governor.come_to_rest(self.now)
         except RobotFailure:
-            pass  # already reported
+            pass  # already reported, or the braking failed: the pose is the last one
         pose = self.robot.pose()
         self.trace.emit(self.now, "session_end", outcome=self.outcome, time_ms=self.now,
-                        pose=pose.as_dict())
+                        pose=pose.as_dict(), **settled)
         return Result(self.outcome, self.now, pose, self.loads, self.trace.errors,
-                      self.trace.count, self.trace)
+                      self.trace.count, self.trace, settled.get("at_rest_ms"))
 
     def _loop(self, until: int | None) -> None:
         self._next_script(0)
@@ -228,9 +250,20 @@ class Session:
                     self._outputs()
 
     def _outputs(self) -> None:
-        """The LEDs and the speaker into a robot model that shows them (MuJoCo's materials)."""
-        self.robot.set_led(self.actuators.led)
-        self.robot.set_audio(self.actuators.audio)
+        """The end of an instant: the LEDs and the speaker into a robot model that shows them
+        (MuJoCo's materials), through the governor when there is one."""
+        if self.governor is not None:
+            self.governor.end_instant(self.now, self.actuators.led)
+        else:
+            self.robot.set_led(self.actuators.led)
+        if self._shows:
+            self.robot.set_audio(self.actuators.audio)
+
+    def _on_wake(self, now: int, _arg) -> bool:
+        """The governor's flash window frees: it shows what the script asks now. Not a loop of
+        the session (nothing of the script changed), so the handler says nothing happened."""
+        self.governor.wake_led(now, self.actuators.led)
+        return False
 
     def _on_sense(self, now: int, _arg) -> bool:
         """Simulated sensing (runtime/sensing.py): where the placed entities are relative to

@@ -43,7 +43,11 @@ def summary_text(result: Result, trace_path: str | None = None, capped: bool = F
         lines.append(f"  {load.script}: loaded at {load.loaded_ms} ms ({load.reason}), {end}; "
                      f"{_goals(load.goals)}")
     p = result.pose
-    lines.append(f"  pose: x = {p.x:.4f} m, y = {p.y:.4f} m, theta = {p.theta:.4f} rad")
+    rest = result.at_rest_ms
+    braking = (f" (where it came to rest at {rest} ms, braking after the end)"
+               if rest is not None and rest > result.time_ms else "")
+    lines.append(f"  pose: x = {p.x:.4f} m, y = {p.y:.4f} m, theta = {p.theta:.4f} rad"
+                 f"{braking}")
     for error in result.errors:
         lines.append(f"  {'error' if error.get('fatal') else 'warning'} at {error['t']} ms "
                      f"[{error['code']}]: {error['message']}")

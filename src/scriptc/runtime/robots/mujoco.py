@@ -10,6 +10,13 @@ number of steps; the step count is integer arithmetic, never a rounded float. A 
 consumed sets the velocity to zero (the actuators do it), and the velocity actuators (time
 constant 0.1 ms) stop the base within a step.
 
+The actuators are velocity servos on integrators (`teo.xml`): the activation is the velocity
+setpoint, ctrl its rate of change. A change at once writes the activation (ctrl 0); a ramp of
+the governor (`rates`, `robots.Ramp`) is stepped in batches of constant ctrl: `mj_step(nstep=n)`
+with ctrl = each axis's rate of change over the whole milliseconds of its ramp (the activation
+is then written to the target, so no rounding accumulates). A ramp costs at most two batches
+(the plane, the turn), whatever its length.
+
 MuJoCo does not raise on a numerical blow-up: it prints a warning and resets the state (or
 zeroes a bad control). After every batch of steps the warning counters are compared with the
 previous ones; any new warning raises `RobotFailure`, which the session reports as the fatal
@@ -24,7 +31,7 @@ from importlib import resources
 
 import mujoco
 
-from scriptc.runtime.robots import Pose, RobotFailure
+from scriptc.runtime.robots import Pose, Ramp, RobotFailure
 
 MODEL_NAME = "teo.xml"
 
@@ -64,7 +71,8 @@ class MujocoRobot:
         if self.steps_per_ms < 1 or abs(steps - self.steps_per_ms) > 1e-9:
             raise ValueError("the model's timestep must divide 1 ms")
         self._t = 0  # ms simulated so far
-        self._v = (0.0, 0.0, 0.0)
+        self._v = (0.0, 0.0, 0.0)  # the velocity set (a ramp's target)
+        self._ramp: Ramp | None = None
         self._warnings = 0
         m = self.model
         self._qx = m.jnt_qposadr[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, "x")]
@@ -78,22 +86,49 @@ class MujocoRobot:
 
     # -- the Robot interface ----------------------------------------------------------------
 
-    def set_velocity(self, t_ms: int, v_x: float, v_y: float, v_theta: float) -> None:
+    def set_velocity(self, t_ms: int, v_x: float, v_y: float, v_theta: float,
+                     rates: tuple[float, float, float] | None = None) -> None:
         self.advance(t_ms)
+        now = self.velocity
         self._v = (float(v_x), float(v_y), float(v_theta))
-        self.data.ctrl[:] = self._v
+        self._ramp = ramp = Ramp.between(t_ms, now, self._v, rates)
+        self.data.act[:] = self._v if ramp is None else now
+        self.data.ctrl[:] = 0.0
 
     def advance(self, t_ms: int) -> None:
-        if t_ms <= self._t:
-            return
-        n = (t_ms - self._t) * self.steps_per_ms
+        while self._ramp is not None and self._t < t_ms:
+            self._ramp_batch(t_ms)
+        if t_ms > self._t:
+            self._step(t_ms - self._t)
+
+    def _ramp_batch(self, t_ms: int) -> None:
+        """Step the next milliseconds of the ramp over which ctrl is constant (up to t_ms)."""
+        ramp = self._ramp
+        k = self._t - ramp.t0 + 1  # the next millisecond of the ramp
+        last = t_ms - ramp.t0
+        act, ctrl = self.data.act, [0.0, 0.0, 0.0]
+        for i, n in enumerate(ramp.steps):
+            if k <= n:  # ramping: ctrl is the axis's rate
+                ctrl[i] = ramp.step[i] * 1000.0
+                last = min(last, n)
+            else:  # on the target (exactly: no rounding carried on)
+                act[i] = ramp.target[i]
+        self.data.ctrl[:] = ctrl
+        self._step(last - k + 1)
+        if self._t >= ramp.end:
+            self.data.act[:] = ramp.target
+            self.data.ctrl[:] = 0.0
+            self._ramp = None
+
+    def _step(self, ms: int) -> None:
+        n = ms * self.steps_per_ms
         mujoco.mj_step(self.model, self.data, nstep=n)
         self.steps += n
-        self._t = t_ms
+        self._t += ms
         warnings = int(self.data.warning.number.sum())
         if warnings != self._warnings:
             self._warnings = warnings
-            raise RobotFailure(self._describe_warnings(t_ms))
+            raise RobotFailure(self._describe_warnings(self._t))
 
     def pose(self) -> Pose:
         q = self.data.qpos
@@ -103,7 +138,8 @@ class MujocoRobot:
 
     @property
     def velocity(self) -> tuple[float, float, float]:
-        return self._v
+        """The velocity setpoint now (within a ramp: the one reached at this ms)."""
+        return self._ramp.velocity(self._t) if self._ramp is not None else self._v
 
     @property
     def time_ms(self) -> int:
