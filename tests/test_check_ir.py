@@ -397,8 +397,8 @@ def test_ten_thousand_blocks_check_fast():
     script, source = pair
     best = min(_timed(script, source) for _ in range(3))
     assert run(pair) == []
-    # Generous bound for slow CI machines; bench/ measures the real figure.
-    assert best < 0.3, best
+    # A guard against quadratic work (about 0.15 s here), not a measurement: bench/ measures.
+    assert best < 3, best
 
 
 def _timed(script, source):
