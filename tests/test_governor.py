@@ -389,3 +389,27 @@ def test_the_cli_governs_the_kinematic_robot_on_request(tmp_path) -> None:
         assert events[-1]["time_ms"] == 2000 and events[-1].get("at_rest_ms") == expected
         assert events[-1]["pose"]["x"] == pytest.approx(0.5)
         assert bool([e for e in events if e["event"] == "governor"]) == (expected is not None)
+
+
+# ---------------------------------------------------------------------------------------------
+# The profile in the trace, the speaker's level
+
+
+def test_a_governed_trace_starts_with_the_profile_it_keeps() -> None:
+    profile = Profile(max_linear_speed=0.3, max_volume=0.5)
+    _, trace, _ = run(moves("0.1, 0, 0, 0, 100"), profile=profile)
+    start = trace.events[0]
+    assert start["event"] == "session_start"
+    assert start["profile"] == {k: v for k, v in profile.as_dict().items() if k != "source"}
+    _, ungoverned, _ = run(moves("0.1, 0, 0, 0, 100"), profile=None)
+    assert "profile" not in ungoverned.events[0]
+
+
+def test_the_speaker_plays_at_the_profiles_volume() -> None:
+    """Audio commands carry no volume: the robot plays every track at one level, which the
+    governor sets to the profile's maximum."""
+    _, _, session = run(moves("0, 0, 0, 0, 100", audio='"songs/a.wav, 0, 100"'),
+                        robot="mujoco", profile=Profile(max_volume=0.4))
+    assert session.robot.volume == 0.4
+    robot = make_robot("mujoco")
+    assert robot.volume == 1.0  # without a governor: full volume

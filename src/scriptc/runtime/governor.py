@@ -83,6 +83,11 @@ class Governor:
         self._max_onsets = math.floor(p.max_led_flash_rate)  # K002: count > rate is too many
         self._show = getattr(robot, "set_led", None)
         self.wake = None
+        # The speaker: audio commands carry no volume, so the robot plays every track at one
+        # level, and the governor sets it to the profile's maximum.
+        set_volume = getattr(robot, "set_volume", None)
+        if set_volume is not None:
+            set_volume(p.max_volume)
 
     def __getattr__(self, name: str):
         return getattr(self.robot, name)

@@ -192,9 +192,14 @@ class Session:
 
     def run(self, until: int | None = None) -> Result:
         """Run to the end (see the module's docstring); `until` caps simulated time (ms)."""
+        governed = {}
+        if self.governor is not None:  # the limits the governor keeps, as the trace's header
+            governed["profile"] = {k: v for k, v in self.governor.profile.as_dict().items()
+                                   if k != "source"}
         self.trace.emit(0, "session_start", scripts=[p.name for p in self.programs],
                         robot=getattr(self.robot, "name", type(self.robot).__name__),
-                        until=until, scenario=self.scenario.path if self.scenario else None)
+                        until=until, scenario=self.scenario.path if self.scenario else None,
+                        **governed)
         if self.scenario is not None:
             for tu in self.scenario.updates:
                 self.queue.push(tu.at, PRIO_UPDATE, self._on_update, tu)

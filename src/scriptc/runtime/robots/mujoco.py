@@ -82,6 +82,7 @@ class MujocoRobot:
                       for name in ("led_left", "led_right")]
         self._led_off = [tuple(m.mat_rgba[i]) for i in self._leds]
         self.audio: str | None = None
+        self.volume = 1.0  # the speaker's level, a fraction of full volume (set_volume)
         self.steps = 0  # physics steps taken (the benchmark reports it)
 
     # -- the Robot interface ----------------------------------------------------------------
@@ -156,6 +157,11 @@ class MujocoRobot:
     def set_audio(self, track: str | None) -> None:
         """The speaker: audio is state (what plays), not sound."""
         self.audio = track
+
+    def set_volume(self, level: float) -> None:
+        """The speaker's level (a fraction of full volume): every track plays at it, audio
+        commands carry no volume. The governor sets the profile's `max_volume`."""
+        self.volume = min(1.0, max(0.0, float(level)))
 
     def _describe_warnings(self, t_ms: int) -> str:
         members = mujoco.mjtWarning.__members__
