@@ -128,8 +128,10 @@ def _loader(path: str, executor: str = "vm"):
               help="Robot backend: mujoco (the physics of the Teo/Oimi model) or kinematic "
                    "(exact integration).")
 @click.option("--governor/--no-governor", "governor", default=None,
-              help="Clamp velocities to the robot profile (default: on with mujoco, off with "
-                   "kinematic, the ideal robot that does exactly what the script says).")
+              help="Keep the run within the robot profile: speeds clamped, accelerations "
+                   "ramped, people kept at a distance, LED flashing held (default: on with "
+                   "mujoco, off with kinematic, the ideal robot that does exactly what the "
+                   "script says).")
 @click.option("--plot", "plot_path", metavar="FILE",
               help="Draw the run (trajectory from above, timeline of the tracks) to FILE.png "
                    "or FILE.svg (needs matplotlib: pip install 'scriptc[plot]').")
