@@ -28,7 +28,7 @@ gives the figures over stdio).
 
 The result is by construction what `scriptc.driver.analyze_script` gives for the same text:
 the same `parse_items` (given the spliced scan and a parser that answers from the cache of
-item texts) and the same `_Lowerer.script` run, with the two per-item methods of the lowerer
+item texts) and the same `Lowerer.script` run, with the two per-item methods of the lowerer
 (`block`, `rule_message`) answered from the cache, then the same `scriptc.analysis.finish`.
 `tests/test_ide_incremental.py` checks the equality with `analyze_script` (and of the spliced
 scan with a whole scan) over random edits.
@@ -136,7 +136,7 @@ class _CachingParser:
         return entry.tree
 
 
-class _CachingLowerer(_lower._Lowerer):
+class _CachingLowerer(_lower.Lowerer):
     """The lowerer, with the two per-item steps answered from the cache."""
 
     analyzer: Analyzer

@@ -60,10 +60,16 @@ _span = tuple.__new__
 _PARENS = re.compile(r'"(?:\\.|[^"\\])*"|[()]')
 
 
-class _Lowerer:
+class Lowerer:
     """`text` is the text being lowered; it starts at offset `text_base` of its file (0 for a
     script, the string's offset for a condition read from JSON). `base` is the offset of the
-    item being lowered: lark's token offsets are relative to it."""
+    item being lowered: lark's token offsets are relative to it.
+
+    `script(source, parsed)` lowers a whole script; it lowers each item through `block(tree,
+    span)` and `rule_message(tree, span)`, which depend on nothing but the item (and `base`):
+    a subclass may answer them from a cache (the language server's incremental analysis,
+    `scriptc.ide.incremental`), as long as it returns what they would and adds the same
+    diagnostics."""
 
     def __init__(self, text: str, text_base: int = 0) -> None:
         self.text = text
@@ -605,7 +611,7 @@ class _Lowerer:
 
 def lower_script(source: SourceFile) -> tuple[ir.Script | None, list[Diagnostic]]:
     """Parse and lower a whole script. The script is None only when the file holds no item."""
-    lowerer = _Lowerer(source.text)
+    lowerer = Lowerer(source.text)
     with gc_paused():
         script = lowerer.script(source)
     return script, lowerer.diagnostics
@@ -617,7 +623,7 @@ def parse_condition(text: str, base: int = 0) -> tuple[ir.Condition | None, list
     tree, diagnostics = parse_condition_tree(text, base)
     if tree is None:
         return None, diagnostics
-    lowerer = _Lowerer(text, text_base=base)
+    lowerer = Lowerer(text, text_base=base)
     lead = len(text) - len(text.lstrip())
     condition = lowerer.condition(tree, Span(base + lead, base + len(text.rstrip())))
     return condition, diagnostics + lowerer.diagnostics
