@@ -92,6 +92,25 @@ class Executor(Protocol):
     def read(self, ctx: EvalContext, sink: ReadSink, max_blocks: int = ...) -> ReadResult: ...
 
 
+class ExecutorBase:
+    """What both executors share: the script's name, messages and goal ids from its program,
+    the position, and finding a block by position (`program.index`) for `seek`."""
+
+    def __init__(self, program) -> None:
+        self.program = program
+        self.name = program.name
+        self.alfa = program.alfa
+        self.omega = program.omega
+        self.goal_ids = program.goal_ids
+        self.position: Position | None = None
+
+    def _index_of(self, position: Position) -> int:
+        i = self.program.index.get(tuple(position))
+        if i is None:
+            raise SeekError(f"`{self.name}` has no block {Position(*position).path}")
+        return i
+
+
 class Program(Protocol):
     """A loadable script: its name, where it came from, and a fresh executor per load."""
 

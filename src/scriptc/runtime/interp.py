@@ -21,7 +21,7 @@ import math
 from scriptc.ir import nodes as ir
 from scriptc.runtime.bindings import READER
 from scriptc.runtime.evaluate import EvalContext, evaluate
-from scriptc.runtime.executor import End, Issue, ReadLimit, ReadResult, ReadSink, SeekError
+from scriptc.runtime.executor import End, ExecutorBase, Issue, ReadLimit, ReadResult, ReadSink
 from scriptc.runtime.values import Audio, Instruction, Led, Move, Position, RuleMessage
 
 MAX_BLOCKS_PER_READ = 100_000
@@ -93,16 +93,11 @@ class IRProgram:
         return IRExecutor(self)
 
 
-class IRExecutor:
+class IRExecutor(ExecutorBase):
     """Block reading over the IR (the `Executor` interface)."""
 
     def __init__(self, program: IRProgram) -> None:
-        self.program = program
-        self.name = program.name
-        self.alfa = program.alfa
-        self.omega = program.omega
-        self.goal_ids = program.goal_ids
-        self.position: Position | None = None
+        super().__init__(program)
         self._next = 0
 
     def start(self) -> None:
@@ -110,10 +105,7 @@ class IRExecutor:
         self.position = None
 
     def seek(self, position: Position) -> None:
-        i = self.program.index.get(tuple(position))
-        if i is None:
-            raise SeekError(f"`{self.name}` has no block {Position(*position).path}")
-        self._next = i
+        self._next = self._index_of(position)
 
     def _target(self, name: ir.Name | None, i: int) -> int:
         if name is None or not name.text:

@@ -53,7 +53,7 @@ from scriptc.bytecode.program import Num
 from scriptc.bytecode.program import Program as Bytecode
 from scriptc.runtime.bindings import READER
 from scriptc.runtime.evaluate import EvalContext
-from scriptc.runtime.executor import End, Issue, ReadLimit, ReadResult, ReadSink, SeekError
+from scriptc.runtime.executor import End, ExecutorBase, Issue, ReadLimit, ReadResult, ReadSink
 from scriptc.runtime.values import Audio, Instruction, Led, Move, Position, RuleMessage, compare_op
 from scriptc.runtime.world import Entity
 
@@ -300,16 +300,11 @@ class _Fail(Exception):
     """An instruction failed (docs/bytecode.md, "Failure"): continue at the handler."""
 
 
-class VMExecutor:
+class VMExecutor(ExecutorBase):
     """Block reading over verified bytecode (the `Executor` interface)."""
 
     def __init__(self, program: VMProgram) -> None:
-        self.program = program
-        self.name = program.name
-        self.alfa = program.alfa
-        self.omega = program.omega
-        self.goal_ids = program.goal_ids
-        self.position: Position | None = None
+        super().__init__(program)
         self._block = 0  # the block register
         self._pc: int | None = None  # None: arrive at the block; else resume at this index
 
@@ -319,10 +314,7 @@ class VMExecutor:
         self.position = None
 
     def seek(self, position: Position) -> None:
-        i = self.program.index.get(tuple(position))
-        if i is None:
-            raise SeekError(f"`{self.name}` has no block {Position(*position).path}")
-        self._block = i
+        self._block = self._index_of(position)
         self._pc = None
 
     def read(self, ctx: EvalContext, sink: ReadSink,
