@@ -187,35 +187,31 @@ def _label(w, label):
     return w.name(label) if label else None
 
 
+def _numeric_commands(w, commands, node):
+    """Write each command (a tuple of number texts) as a string; its IR `node`s."""
+    made = []
+    for k, fields in enumerate(commands):
+        w.put(", " if k else "")
+        start = w.pos
+        w.put('"')
+        numbers = []
+        for j, text in enumerate(fields):
+            w.put(", " if j else "")
+            numbers.append(w.number(text))
+        w.put('"')
+        made.append(node(*numbers, Span(start, w.pos)))
+    return made
+
+
 def inst(label="", moves=(), leds=(), audios=()):
     """moves: tuples of 5 number texts; leds: 6; audios: (path, wait, duration)."""
     def make(w):
         start = w.pos
         lbl = _label(w, label)
         w.put("#blk_inst: MV(")
-        mvs = []
-        for k, m in enumerate(moves):
-            w.put(", " if k else "")
-            cs = w.pos
-            w.put('"')
-            ns = []
-            for j, t in enumerate(m):
-                w.put(", " if j else "")
-                ns.append(w.number(t))
-            w.put('"')
-            mvs.append(ir.MoveCommand(*ns, Span(cs, w.pos)))
+        mvs = _numeric_commands(w, moves, ir.MoveCommand)
         w.put(") LD(")
-        lds = []
-        for k, m in enumerate(leds):
-            w.put(", " if k else "")
-            cs = w.pos
-            w.put('"')
-            ns = []
-            for j, t in enumerate(m):
-                w.put(", " if j else "")
-                ns.append(w.number(t))
-            w.put('"')
-            lds.append(ir.LedCommand(*ns, Span(cs, w.pos)))
+        lds = _numeric_commands(w, leds, ir.LedCommand)
         w.put(") AO(")
         aos = []
         for k, (path, wait, dur) in enumerate(audios):
