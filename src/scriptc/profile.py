@@ -23,7 +23,7 @@ class Profile:
     max_angular_acceleration: float = 3.0  # rad/s²: the governor ramps v_theta at this rate
     min_human_distance: float = 0.4  # m: the governor holds the wheels closer than this
     max_led_flash_rate: float = 3.0  # Hz: WCAG 2.3.1 (three flashes); K002 and the governor
-    max_volume: float = 0.8  # fraction of full volume (audio has no volume field yet)
+    max_volume: float = 0.8  # the speaker's level, a fraction of full volume (the governor)
     source: str = "defaults"  # where the values came from (a configuration file's path)
 
     def as_dict(self) -> dict[str, Any]:
