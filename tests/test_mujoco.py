@@ -193,6 +193,12 @@ def test_cli_default_robot_is_mujoco(tmp_path: Path) -> None:
     assert '"robot":"mujoco"' in first
 
 
+def test_the_summary_shows_no_negative_zero() -> None:
+    """test_act's square ends a hair's breadth from the origin, on either side of zero."""
+    text = CliRunner().invoke(cli, ["run", str(TEST_ACT)], catch_exceptions=False).stdout
+    assert "pose: x = 0.0000 m, y = 0.0000 m, theta = 0.0000 rad" in text
+
+
 def test_the_summary_says_when_the_robot_came_to_rest(tmp_path: Path) -> None:
     """A move running to the script's end: the governed robot brakes after it (0.25 m/s at
     1 m/s² takes 250 ms), the summary and the JSON say when it stopped."""

@@ -32,6 +32,12 @@ def _goals(goals: dict[str, str]) -> str:
     return ", ".join(f"{g} {record}" for g, record in goals.items())
 
 
+def _fixed(value: float) -> str:
+    """Four decimals, without the sign of a value that rounds to zero (`-0.0000`)."""
+    text = f"{value:.4f}"
+    return text[1:] if text == "-0.0000" else text
+
+
 def summary_text(result: Result, trace_path: str | None = None, capped: bool = False) -> str:
     lines = [f"{result.outcome} at {result.time_ms} ms ({result.time_ms / 1000:.3f} s "
              f"simulated): {_OUTCOMES.get(result.outcome, result.outcome)}"]
@@ -46,8 +52,8 @@ def summary_text(result: Result, trace_path: str | None = None, capped: bool = F
     rest = result.at_rest_ms
     braking = (f" (where it came to rest at {rest} ms, braking after the end)"
                if rest is not None and rest > result.time_ms else "")
-    lines.append(f"  pose: x = {p.x:.4f} m, y = {p.y:.4f} m, theta = {p.theta:.4f} rad"
-                 f"{braking}")
+    lines.append(f"  pose: x = {_fixed(p.x)} m, y = {_fixed(p.y)} m, theta = {_fixed(p.theta)} "
+                 f"rad{braking}")
     for error in result.errors:
         lines.append(f"  {'error' if error.get('fatal') else 'warning'} at {error['t']} ms "
                      f"[{error['code']}]: {error['message']}")
