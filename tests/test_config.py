@@ -408,3 +408,51 @@ def test_config_severity_is_what_diagnostics_get() -> None:
     s = build_settings({"lint": {"severity": {"M004": "error"}}})
     (d,) = s.apply([_d("M004")])
     assert d.severity is Severity.ERROR
+
+
+# ---------------------------------------------------------------------------------------------
+# The commands that compile or run stop at an error of the configuration
+
+
+GOOD = "[a]\n[goal:g]\n[action]\n[b##blk_inst: MV(\"0.1, 0, 0, 0, 100\") LD() AO()]\n" \
+       "[b##blk_terminus]\n"
+
+
+@pytest.mark.parametrize("args", [["compile", "a.script", "-o", "a.json"],
+                                  ["run", "a.script", "--robot", "kinematic"],
+                                  ["lint", "a.script"]])
+def test_an_error_in_the_configuration_stops_compile_and_run(tmp_path: Path, args) -> None:
+    """A script is not compiled or run under a configuration that does not say what was meant
+    (here a flash rate below 1): the error is shown, nothing is written, the status is 1."""
+    from click.testing import CliRunner
+
+    from scriptc.cli.main import cli
+
+    (tmp_path / "scriptc.toml").write_text("[robot]\nmax-led-flash-rate = 0\n")
+    (tmp_path / "a.script").write_text(GOOD)
+    cwd = os.getcwd()
+    try:
+        os.chdir(tmp_path)
+        result = CliRunner().invoke(cli, args, catch_exceptions=False)
+    finally:
+        os.chdir(cwd)
+    assert result.exit_code == 1
+    shown = result.stdout + result.stderr  # lint reports on stdout, the others on stderr
+    assert "C002" in shown and "max-led-flash-rate" in shown
+    assert not (tmp_path / "a.json").exists()
+    if args[0] != "lint":
+        assert "fix the configuration first: nothing was done" in result.stderr
+        assert result.stdout == ""
+
+
+def test_a_warning_in_the_configuration_does_not_stop_compile(tmp_path: Path) -> None:
+    from click.testing import CliRunner
+
+    from scriptc.cli.main import cli
+
+    (tmp_path / "scriptc.toml").write_text('[lint]\nignore = ["L099"]\n')  # C004, a warning
+    (tmp_path / "a.script").write_text(GOOD)
+    out = tmp_path / "a.json"
+    result = CliRunner().invoke(cli, ["compile", str(tmp_path / "a.script"), "-o", str(out)],
+                                catch_exceptions=False)
+    assert result.exit_code == 0 and "C004" in result.stderr and out.exists()

@@ -11,6 +11,7 @@ from typing import IO
 import click
 
 from scriptc import driver
+from scriptc.diagnostics.model import has_errors
 from scriptc.profile import profile_from_settings
 from scriptc.diagnostics.render import FORMATS, render
 
@@ -51,11 +52,16 @@ def read_stdin() -> bytes:
 
 def load(path: str, kind: str, stdin_name: str = "<stdin>") -> driver.Analysis:
     """Analyse one file (or stdin for `-`) with its configuration (the repository's functions,
-    the lint policy); the configuration's own problems are shown on stderr. An unreadable
+    the lint policy); the configuration's own problems are shown on stderr, and when one is an
+    error the command stops there with status 1: nothing is compiled or run under a
+    configuration that does not say what was meant (docs/configuration.md). An unreadable
     file is a CliError."""
     settings, config_reports = driver.settings_for(path if path != "-" else stdin_name)
     if config_reports:
         show(config_reports, err=True)
+        if any(has_errors(r.diagnostics) for r in config_reports):
+            click.echo("error: fix the configuration first: nothing was done", err=True)
+            click.get_current_context().exit(1)
     try:
         if path == "-":
             analysis = driver.analyze_bytes(stdin_name, read_stdin(), kind, settings.registry,

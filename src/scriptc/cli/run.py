@@ -22,6 +22,7 @@ import os
 import click
 
 from scriptc import driver
+from scriptc.diagnostics.model import has_errors
 from scriptc.profile import profile_from_settings
 from scriptc.cli._shell import CliError, load, show, write, write_bytes, write_output
 
@@ -103,11 +104,13 @@ def _loader(path: str, executor: str = "vm"):
         except CliError as exc:
             raise LoadError(exc.format_message()) from None
     try:
-        settings, _problems = driver.settings_for(path)
+        settings, problems = driver.settings_for(path)
         analysis = driver.analyze_file(path, kind, functions=settings.registry,
                                        profile=profile_from_settings(settings))
     except driver.ReadError as exc:
         raise LoadError(str(exc)) from None
+    if any(has_errors(r.diagnostics) for r in problems):
+        raise LoadError(f"the configuration of `{path}` has errors (run `scriptc lint {path}`)")
     if not analysis.ok:
         raise LoadError(f"`{path}` has errors (run `scriptc lint {path}`)")
     try:
