@@ -124,3 +124,14 @@ def test_a_start_symbol_of_its_own_goes_to_lark() -> None:
     parser = ShapeParser(script_lark(), "item")
     assert parser.parse("[x]", start="item") == script_lark().parse("[x]", start="item")
     assert parser.terminals == script_lark().terminals  # describe() reads lark's terminals
+
+
+def test_a_very_long_item_is_parsed_and_not_recorded(monkeypatch: pytest.MonkeyPatch) -> None:
+    """An item longer than MAX_SHAPE_TOKENS (say 20,000 tracks) would fill the trie and
+    throw the frequent shapes away: it is parsed (as lark does) and not recorded."""
+    monkeypatch.setattr(shapes, "MAX_SHAPE_TOKENS", 50)
+    parser = ShapeParser(script_lark(), "item")
+    agree(parser, script_lark(), ["[b#a#blk_inst: MV()]"])
+    nodes = parser._nodes
+    agree(parser, script_lark(), ["[b#a#blk_inst: " + "MV() " * 20 + "]"])
+    assert parser._nodes == nodes

@@ -24,7 +24,8 @@ it has seen with one regex match per token and builds lark's own tree from a tem
   lark's parser, exactly. Attributes other than `parse` (the terminals `describe` reads) are
   lark's.
 
-The trie is bounded (`MAX_NODES`): past it, it is dropped and starts again. tests/
+The trie is bounded (`MAX_NODES`): past it, it is dropped and starts again; items of more than
+`MAX_SHAPE_TOKENS` tokens are parsed and not recorded. tests/
 test_shapes.py checks that trees are lark's, for generated and hand-written items.
 """
 
@@ -38,6 +39,7 @@ from lark.parsers.lalr_analysis import Shift
 from scriptc.syntax.lexer import match_token
 
 MAX_NODES = 50_000
+MAX_SHAPE_TOKENS = 2_000  # longer items are parsed, never recorded
 # Items of a shape before it gets its own regex: compiling it takes 5-10 ms (Python's regex
 # compiler) and saves about 10 us per item; frequent shapes number in the thousands in a
 # repository of activities.
@@ -148,6 +150,8 @@ class ShapeParser:
         if parsed is None:
             return self._lark.parse(text, start=self.start)  # raises lark's error
         tree, path, last = parsed
+        if len(path) > MAX_SHAPE_TOKENS:
+            return tree  # a shape this long is met once: recording it would only cost
         if self._nodes + len(path) > MAX_NODES:
             self._reset()
         node = self._root
