@@ -290,3 +290,18 @@ def test_the_model_is_package_data() -> None:
     assert 'name="led_left"' in xml and 'name="speaker"' in xml
     model = load_model()
     assert model.opt.timestep == 0.001 and model.nu == 3 and model.nq == 3
+
+
+def test_the_summary_counts_the_governors_interventions() -> None:
+    """test_act at 10 m/s and 50 rad/s: each move clamped in speed and ramped up and down."""
+    import json
+
+    text = CliRunner().invoke(cli, ["run", str(TEST_ACT)], catch_exceptions=False).stdout
+    assert ("governor: kept the run within the robot profile 12 times (speed 4, acceleration 8, "
+            "angular-speed 2, angular-acceleration 4;") in text
+    data = json.loads(CliRunner().invoke(cli, ["run", str(TEST_ACT), "--json"]).stdout)
+    assert data["governor"] == {"clamps": 12, "reasons": {
+        "speed": 4, "acceleration": 8, "angular-speed": 2, "angular-acceleration": 4}}
+    ideal = json.loads(CliRunner().invoke(cli, ["run", str(TEST_ACT), "--json", "--robot",
+                                                "kinematic"]).stdout)
+    assert "governor" not in ideal

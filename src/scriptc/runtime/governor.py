@@ -69,6 +69,7 @@ class Governor:
         self.target = ZERO  # the velocity the limits allow for it: the robot is at it or ramping
         self.ramp: Ramp | None = None
         self.clamps = 0
+        self.reasons: dict[str, int] = {}  # clamps by reason, in the order first met
         self._pending: int | None = None  # the instant whose command is still to be applied
         self._last_command = ZERO  # the command applied last
         # callback(t_ms, pose) -> (distance m, bearing rad in the body frame) | None
@@ -182,6 +183,8 @@ class Governor:
 
     def _log(self, t_ms: int, fields: dict) -> None:
         self.clamps += 1
+        for reason in fields["reasons"]:
+            self.reasons[reason] = self.reasons.get(reason, 0) + 1
         if self.trace is not None:
             self.trace.emit(t_ms, "governor", **fields)
 

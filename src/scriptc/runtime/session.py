@@ -91,6 +91,9 @@ class Result:
     # With the governor: the millisecond the robot came to rest after the activity's end
     # (it brakes at the profile's accelerations; `pose` is where it stopped).
     at_rest_ms: int | None = None
+    # With the governor: how many times it intervened (`governor` trace events), and how many
+    # of them for each reason (an event may have two: a speed clamped and ramped).
+    governor: dict | None = None
 
     def as_dict(self) -> dict:
         data = {
@@ -103,6 +106,8 @@ class Result:
         }
         if self.at_rest_ms is not None:
             data["at_rest_ms"] = self.at_rest_ms
+        if self.governor is not None:
+            data["governor"] = self.governor
         return data
 
 
@@ -226,7 +231,9 @@ class Session:
         self.trace.emit(self.now, "session_end", outcome=self.outcome, time_ms=self.now,
                         pose=pose.as_dict(), **settled)
         return Result(self.outcome, self.now, pose, self.loads, self.trace.errors,
-                      self.trace.count, self.trace, settled.get("at_rest_ms"))
+                      self.trace.count, self.trace, settled.get("at_rest_ms"),
+                      None if self.governor is None else
+                      {"clamps": self.governor.clamps, "reasons": dict(self.governor.reasons)})
 
     def _loop(self, until: int | None) -> None:
         self._next_script(0)

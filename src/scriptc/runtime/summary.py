@@ -54,6 +54,11 @@ def summary_text(result: Result, trace_path: str | None = None, capped: bool = F
                if rest is not None and rest > result.time_ms else "")
     lines.append(f"  pose: x = {_fixed(p.x)} m, y = {_fixed(p.y)} m, theta = {_fixed(p.theta)} "
                  f"rad{braking}")
+    if result.governor and result.governor["clamps"]:
+        said = ", ".join(f"{reason} {n}" for reason, n in result.governor["reasons"].items())
+        lines.append(f"  governor: kept the run within the robot profile "
+                     f"{result.governor['clamps']} times ({said}; the trace's `governor` events "
+                     "say when and how)")
     for error in result.errors:
         lines.append(f"  {'error' if error.get('fatal') else 'warning'} at {error['t']} ms "
                      f"[{error['code']}]: {error['message']}")
