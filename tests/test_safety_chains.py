@@ -239,3 +239,28 @@ def test_a_spent_budget_still_reports(monkeypatch) -> None:
         monkeypatch.setattr(safety, "_WORK_PER_BLOCK", 0)
         assert [(d.span, d.message) for d in k002(text)] == expected, path.name
         monkeypatch.undo()
+
+
+# -- the check and the run-time governor agree -------------------------------------------------
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.lists(BLOCKS, min_size=2, max_size=7))
+def test_what_k002_lets_through_the_governor_never_holds(blocks) -> None:
+    """Both count onsets in one-second windows the same way, and K002 follows every path the
+    run could take: a script K002 accepts runs without a held LED onset."""
+    from scriptc.profile import DEFAULT_PROFILE
+    from scriptc.runtime.interp import IRProgram
+    from scriptc.runtime.session import Session
+    from scriptc.runtime.trace import Trace
+
+    text = render(blocks)
+    analysis = analyze_script(SourceFile("g.script", text))
+    if not analysis.ok:  # K002 or another error: nothing to run
+        return
+    trace = Trace()
+    Session([IRProgram(analysis.script, "g.script")], robot="kinematic", trace=trace,
+            profile=DEFAULT_PROFILE).run(20_000)
+    held = [e for e in trace.events
+            if e["event"] == "governor" and "led-flash" in e["reasons"]]
+    assert held == [], text
