@@ -1,7 +1,8 @@
 """Repository lint: `scriptc lint DIR` over a generated repository, cold and from the cache.
 
 The repository holds N scripts (default 1,000) of 100 to 200 blocks each (`generate.py`'s
-`big_script(n)`, n varying with the file), about 23 KB each. Each figure is the wall time of a
+`big_script(n)`, n varying with the file), about 23 KB each; with `--varied`, scripts in many
+shapes (`varied_script`), about 20 KB each. Each figure is the wall time of a
 fresh `scriptc lint DIR` process (interpreter start included), with Python's bytecode cache
 warm (a temporary PYTHONPYCACHEPREFIX, as an installed wheel has):
 
@@ -16,7 +17,7 @@ Targets: >= 100 files/s cold on 2 cores, >= 1,000 files/s cached. Then, for the 
 where the time goes: one process analysing a sample of the files, split into the front end
 (scan, parse, lower), the checks and the rest, to compare with the front end's speed.
 
-    .venv/bin/python bench/bench_lint_repo.py [--files N] [--jobs J] [--runs R]
+    .venv/bin/python bench/bench_lint_repo.py [--files N] [--jobs J] [--runs R] [--varied]
 """
 
 from __future__ import annotations
@@ -34,17 +35,21 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
-from generate import big_script  # noqa: E402
+from generate import big_script, varied_script  # noqa: E402
 
 
-def make_repository(root: Path, files: int) -> int:
+def make_repository(root: Path, files: int, varied: bool = False) -> int:
     """Write the scripts (in folders of 100) and return their total size in bytes."""
     total = 0
     for i in range(files):
         blocks = 100 + (i * 37) % 101  # 100..200, spread over the files
         # Each file its own activity name: no two files are the same (identical files are
         # analysed once, which would flatter the cold figure).
-        text = big_script(blocks - blocks % 2).replace("[big_activity]", f"[activity{i:04d}]", 1)
+        if varied:
+            text = varied_script(blocks, i)
+        else:
+            text = big_script(blocks - blocks % 2).replace("[big_activity]", f"[activity{i:04d}]",
+                                                           1)
         path = root / f"pack{i // 100:02d}" / f"activity{i:04d}.script"
         path.parent.mkdir(parents=True, exist_ok=True)
         path.write_text(text, encoding="utf-8")
@@ -120,12 +125,15 @@ def main() -> None:
     parser.add_argument("--jobs", type=int, default=2)
     parser.add_argument("--runs", type=int, default=3, help="runs of the cached figure")
     parser.add_argument("--sample", type=int, default=40, help="files profiled in-process")
+    parser.add_argument("--varied", action="store_true",
+                        help="scripts in many shapes (generate.varied_script: 0-3 commands per "
+                             "track, six kinds of condition, comments) instead of two")
     args = parser.parse_args()
 
     with tempfile.TemporaryDirectory() as tmp:
         root = Path(tmp) / "repo"
         root.mkdir()
-        size = make_repository(root, args.files)
+        size = make_repository(root, args.files, args.varied)
         # The generated moves go up to 0.9 m/s: the repository's robot profile allows them,
         # so that the figures are those of a clean repository (rendering thousands of
         # warnings is another benchmark).

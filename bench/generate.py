@@ -37,3 +37,57 @@ def script_of_size(megabytes: float) -> str:
     """A script of about the given size."""
     per_block = len(big_script(100)) / 100
     return big_script(int(megabytes * 1_000_000 / per_block) // 2 * 2)
+
+
+_CONDITIONS = (
+    "! {{E: gt(@count, {n})}}",
+    "{{CLASS #Human U ?kid (?THIS>&positionrho OP< {f})}} ! {{TRUE}}",
+    "{{CLASS #Human T ?kid (?THIS>&positionrho OP< {f}, B: near({n}))}} ! "
+    "{{E: gt(?kid>&permanencetime, {t})}}",
+    "{{VAR @start U F: now()}} ! {{E: gt(@start, {t})}}",
+    "{{CLASS #Object U ?toy (?THIS>&positiontheta OP> {f})}} "
+    "{{CLASS #Human U ?kid (?THIS>&positionrho OP< {f})}} ! {{E: lt(?kid>&positionrho, {f})}}",
+    "{{TRUE}}",
+)
+
+
+def varied_script(blocks: int, seed: int) -> str:
+    """A valid script of about `blocks` blocks in many shapes, as people write them: 0-3 moves,
+    0-3 LED commands and 0-2 tracks per instruction block, jumps on six kinds of condition,
+    comments now and then, labels on some blocks only (deterministic for a seed)."""
+    import random
+
+    rng = random.Random(seed)
+
+    def number(scale: float) -> str:
+        return f"{rng.random() * scale:.{rng.choice((1, 2))}f}"
+
+    out = [f"% activity {seed}: generated, varied %\n[activity{seed}]\n",
+           '[alfa:0, kick_starter, "", "", C, U]\n', '[omega:0, kick_starter, "", "", R, L]\n']
+    labelled = [i % 20 != 19 and rng.random() < 0.6 for i in range(blocks)]
+    for i in range(blocks):
+        if i % 40 == 0:
+            out.append(f"[goal:goal{i // 40}]\n")
+        if i % 20 == 0:
+            out.append("  [action]\n")
+        label = f"b{i}" if labelled[i] else ""
+        if rng.random() < 0.35 and i % 20 not in (0, 19):
+            # forward, within the action: to the next labelled block, or on to the next block
+            ahead = [j for j in range(i + 1, min(blocks, i - i % 20 + 20)) if labelled[j]]
+            target = f"b{ahead[0]}" if ahead and rng.random() < 0.5 else ""
+            condition = rng.choice(_CONDITIONS).format(n=rng.randint(0, 9), f=number(2),
+                                                       t=rng.randint(0, 5000))
+            if condition == "{TRUE}":
+                target = ""  # an unconditional jump ahead would leave blocks unreachable
+            out.append(f"    [b#{label}#blk_jump: CND({condition}) TRJMP({target}) FLSJMP()]\n")
+            continue
+        moves = ", ".join(f'"{number(0.4)}, {number(0.2)}, {number(1)}, 0, {rng.randint(1, 20) * 100}"'
+                          for _ in range(rng.randint(0, 3)))
+        leds = ", ".join(f'"{number(1)}, {number(1)}, {number(1)}, 1, {rng.randint(0, 3) * 100}, '
+                         f'{rng.randint(4, 10) * 100}"' for _ in range(rng.randint(0, 3)))
+        audio = ", ".join(f'"songs/track{rng.randint(0, 99)}.wav, 0, {rng.randint(1, 10) * 500}"'
+                          for _ in range(rng.randint(0, 2)))
+        comment = f"  % step {i} %" if rng.random() < 0.1 else ""
+        out.append(f"    [b#{label}#blk_inst: MV({moves}) LD({leds}) AO({audio})]{comment}\n")
+    out.append("    [b#end#blk_terminus]\n")
+    return "".join(out)
