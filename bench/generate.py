@@ -1,4 +1,5 @@
-"""Generators of large, valid scripts for the benchmarks (deterministic: no randomness)."""
+"""Generators of large, valid scripts for the benchmarks (deterministic: fixed patterns, or a
+seeded random generator)."""
 
 from __future__ import annotations
 
