@@ -107,3 +107,22 @@ async def test_other_files_change_nothing(client, tmp_path):
     await asyncio.sleep(0.3)
     assert doc.uri not in client.published  # nothing was re-read, nothing pushed
     doc.close()
+
+
+async def test_the_robot_profile_of_the_configuration_applies(client, tmp_path):
+    """K001 against the repository's `[robot]` limits, as `scriptc lint` checks them; and
+    again when they change."""
+    fast = ("[greet]\n[goal:g]\n  [action]\n    [b##blk_inst: MV(\"0.8, 0, 0, 0, 1000\") LD() AO()]\n"
+            "    [b##blk_terminus]\n")
+    config = tmp_path / "scriptc.toml"
+    config.write_text("[robot]\nmax-linear-speed = 1.0\n", encoding="utf-8")
+    script = tmp_path / "fast.script"
+    doc = Doc(client, script.as_uri(), fast)
+    client.text_document_did_open(lsp.DidOpenTextDocumentParams(
+        lsp.TextDocumentItem(doc.uri, "scriptc", doc.version, fast)))
+    assert [d.code for d in await doc.diagnostics()] == []  # 0.8 m/s is within 1.0
+    config.write_text("[robot]\nmax-linear-speed = 0.5\n", encoding="utf-8")
+    got = await renewed(client, doc, lsp.FileEvent(config.as_uri(), lsp.FileChangeType.Changed))
+    assert [d.code for d in got] == ["K001"]
+    assert "above the robot profile's 0.5 m/s" in got[0].message
+    doc.close()

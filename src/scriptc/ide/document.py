@@ -33,16 +33,17 @@ class Document:
     """One open document. Not thread-safe (the server uses it from its event loop)."""
 
     def __init__(self, uri: str, text: str, version: int | None = None, *, path: str = "",
-                 functions: FunctionRegistry = STANDARD, policy=None) -> None:
+                 functions: FunctionRegistry = STANDARD, policy=None, profile=None) -> None:
         """`functions`: the registry the checks use (a repository's configuration extends
         the standard one); `policy`: what is reported of the diagnostics found (a
-        configuration's selection and severities, `Settings.apply`), None for everything."""
+        configuration's selection and severities, `Settings.apply`), None for everything;
+        `profile`: the robot profile of the safety checks (None: the defaults)."""
         self.uri = uri
         self.path = path or uri
         self.version = version
         self.policy = policy
         self.text = canonical(text)
-        self._analyzer = Analyzer(functions, slack=True)
+        self._analyzer = Analyzer(functions, slack=True, profile=profile)
         self._snapshot: Snapshot | None = None
         # The edits since the last analysis, for the analyser to follow (None: unknown).
         self._edits: list[tuple[int, int, str]] | None = None
@@ -77,7 +78,8 @@ class Document:
 
     def reset_analyzer(self) -> None:
         """Forget the caches of incremental analysis (the next snapshot analyses afresh)."""
-        self._analyzer = Analyzer(self._analyzer.functions, slack=True)
+        self._analyzer = Analyzer(self._analyzer.functions, slack=True,
+                                  profile=self._analyzer.profile)
         self._snapshot = None
         self._edits = None
 

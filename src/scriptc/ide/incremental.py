@@ -192,8 +192,10 @@ class Analyzer:
     text: see `scriptc.ide.layout`), reusing what it can of the previous call. Not
     thread-safe: one analyzer per document, used from one thread."""
 
-    def __init__(self, functions: FunctionRegistry = STANDARD, *, slack: bool = False) -> None:
+    def __init__(self, functions: FunctionRegistry = STANDARD, *, slack: bool = False,
+                 profile=None) -> None:
         self.functions = functions
+        self.profile = profile  # the robot profile of the safety checks (None: the defaults)
         self.slack = slack  # keep pads after items (for documents being edited)
         self._current: dict[str, _Entry] = {}
         self._previous: dict[str, _Entry] = {}
@@ -364,6 +366,6 @@ class Analyzer:
             self._by_tree = {}
             stats.items = len(scanned.items)
             diagnostics, _suppressed = finish(source, script, lowerer.diagnostics,
-                                              functions=self.functions)
+                                              functions=self.functions, profile=self.profile)
         return Result(source, scanned, parsed, script, diagnostics, stats)
 

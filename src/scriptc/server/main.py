@@ -18,7 +18,8 @@ Decisions:
   `initializationOptions: {"diagnostics": "push" | "pull" | "both"}` overrides this. Pull
   requests are answered in every mode.
 - **The repository's configuration** applies as in `scriptc lint`: the functions a
-  `scriptc.toml` declares and its policy (selection, per-file ignores, severities), read when
+  `scriptc.toml` declares, its robot profile and its policy (selection, per-file ignores,
+  severities), read when
   the document is opened and again when a configuration file changes (the server asks the
   client to watch `scriptc.toml` and `pyproject.toml` files; a client that cannot watch
   files gets the configuration of the moment the document was opened).
@@ -268,8 +269,11 @@ def _configured(uri: str, text: str, version: int | None) -> Document:
     for report in reports:
         for d in report.diagnostics:
             log.warning("%s: %s[%s] %s", report.path, d.severity.value, d.code, d.message)
+    from scriptc.profile import profile_from_settings
+
     return Document(uri, text, version, path=path, functions=settings.registry,
-                    policy=lambda diagnostics: settings.apply(diagnostics, path))
+                    policy=lambda diagnostics: settings.apply(diagnostics, path),
+                    profile=profile_from_settings(settings))
 
 
 @SERVER.feature(lsp.TEXT_DOCUMENT_DID_OPEN)
