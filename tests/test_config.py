@@ -456,3 +456,20 @@ def test_a_warning_in_the_configuration_does_not_stop_compile(tmp_path: Path) ->
     result = CliRunner().invoke(cli, ["compile", str(tmp_path / "a.script"), "-o", str(out)],
                                 catch_exceptions=False)
     assert result.exit_code == 0 and "C004" in result.stderr and out.exists()
+
+
+def test_a_script_loaded_during_a_run_is_refused_under_a_broken_configuration(
+        tmp_path: Path) -> None:
+    """A rule or an update may load a script by path while a run goes on: one from a
+    repository whose configuration has an error is refused (a LoadError the session reports),
+    not run with the defaults."""
+    from scriptc.cli.run import _loader
+    from scriptc.runtime.session import LoadError
+
+    (tmp_path / "scriptc.toml").write_text("[robot]\nmax-linear-speed = 0\n")
+    script = tmp_path / "a.script"
+    script.write_text(GOOD)
+    with pytest.raises(LoadError, match="configuration of .* has errors"):
+        _loader(str(script))
+    (tmp_path / "scriptc.toml").write_text("[robot]\nmax-linear-speed = 1\n")
+    assert _loader(str(script)).name

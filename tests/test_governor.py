@@ -400,7 +400,8 @@ def test_a_governed_trace_starts_with_the_profile_it_keeps() -> None:
     _, trace, _ = run(moves("0.1, 0, 0, 0, 100"), profile=profile)
     start = trace.events[0]
     assert start["event"] == "session_start"
-    assert start["profile"] == {k: v for k, v in profile.as_dict().items() if k != "source"}
+    assert start["profile"]["max_linear_speed"] == 0.3
+    assert start["profile"] == profile.limits() and "source" not in start["profile"]
     _, ungoverned, _ = run(moves("0.1, 0, 0, 0, 100"), profile=None)
     assert "profile" not in ungoverned.events[0]
 

@@ -660,6 +660,12 @@ def _fix_file(report: FileReport, data: bytes, kind: str, settings, cache) -> Fi
     return FileReport(SourceFile(source.path, text), diagnostics, report.path, fixed=fixed)
 
 
+def configuration_failed(reports: list[FileReport]) -> bool:
+    """Whether the configuration reports of `settings_for` hold an error: `compile`,
+    `decompile` and `run` do nothing then (docs/configuration.md); warnings do not stop them."""
+    return any(has_errors(r.diagnostics) for r in reports)
+
+
 def settings_for(path: str, *, cache: bool = True):
     """The configuration of one file (`scriptc compile FILE`): its `Settings`, and a report of
     the configuration file's own problems (empty when it has none). `path` may be a file

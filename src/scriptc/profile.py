@@ -29,6 +29,10 @@ class Profile:
     def as_dict(self) -> dict[str, Any]:
         return {f.name: getattr(self, f.name) for f in fields(self)}
 
+    def limits(self) -> dict[str, float]:
+        """The limits alone (without where they came from), as a governed trace records them."""
+        return {k: getattr(self, k) for k in _KEYS}
+
 
 DEFAULT_PROFILE = Profile()
 

@@ -11,7 +11,6 @@ from typing import IO
 import click
 
 from scriptc import driver
-from scriptc.diagnostics.model import has_errors
 from scriptc.profile import profile_from_settings
 from scriptc.diagnostics.render import FORMATS, render
 
@@ -59,7 +58,7 @@ def load(path: str, kind: str, stdin_name: str = "<stdin>") -> driver.Analysis:
     settings, config_reports = driver.settings_for(path if path != "-" else stdin_name)
     if config_reports:
         show(config_reports, err=True)
-        if any(has_errors(r.diagnostics) for r in config_reports):
+        if driver.configuration_failed(config_reports):
             click.echo("error: fix the configuration first: nothing was done", err=True)
             click.get_current_context().exit(1)
     try:

@@ -22,7 +22,6 @@ import os
 import click
 
 from scriptc import driver
-from scriptc.diagnostics.model import has_errors
 from scriptc.profile import profile_from_settings
 from scriptc.cli._shell import CliError, load, show, write, write_bytes, write_output
 
@@ -109,7 +108,7 @@ def _loader(path: str, executor: str = "vm"):
                                        profile=profile_from_settings(settings))
     except driver.ReadError as exc:
         raise LoadError(str(exc)) from None
-    if any(has_errors(r.diagnostics) for r in problems):
+    if driver.configuration_failed(problems):
         raise LoadError(f"the configuration of `{path}` has errors (run `scriptc lint {path}`)")
     if not analysis.ok:
         raise LoadError(f"`{path}` has errors (run `scriptc lint {path}`)")

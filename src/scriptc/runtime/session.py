@@ -199,8 +199,7 @@ class Session:
         """Run to the end (see the module's docstring); `until` caps simulated time (ms)."""
         governed = {}
         if self.governor is not None:  # the limits the governor keeps, as the trace's header
-            governed["profile"] = {k: v for k, v in self.governor.profile.as_dict().items()
-                                   if k != "source"}
+            governed["profile"] = self.governor.profile.limits()
         self.trace.emit(0, "session_start", scripts=[p.name for p in self.programs],
                         robot=getattr(self.robot, "name", type(self.robot).__name__),
                         until=until, scenario=self.scenario.path if self.scenario else None,
