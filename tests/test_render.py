@@ -113,6 +113,18 @@ def long_diagnostics() -> list[Diagnostic]:
               labels=(Label(span_of(LONG, '"58, 0'), "also far to the right"),))]
 
 
+GAP = ("[b#x#blk_terminus]\n"
+       + "[b##blk_inst: MV(" + ", ".join(['"0, 0, 0, 0, 10"'] * 12) + ") LD() AO()]\n"
+       + "[b#x#blk_terminus]\n")
+
+
+def gap_diagnostics() -> list[Diagnostic]:
+    # The two annotated lines are two apart, so the line between is shown, annotation-less;
+    # it is longer than MAX_LINE, so it is cut (this crashed the renderer: issue 12).
+    return [d("L001", Severity.ERROR, "the label `x` is used twice", span_of(GAP, "x", 1),
+              labels=(Label(span_of(GAP, "x", 0), "first defined here"),))]
+
+
 JSON_SOURCE = '{\n  "activityname": "a",\n  "goal0": {"goalid": 7}\n}\n'
 
 
@@ -129,6 +141,7 @@ SNAPSHOTS = {
     "far": lambda: [(SourceFile("far.script", FAR), far_diagnostics())],
     "long_line": lambda: [(SourceFile("long.script", LONG), long_diagnostics())],
     "json_path_fix": lambda: [(SourceFile("a.json", JSON_SOURCE), json_diagnostics())],
+    "gap_long_line": lambda: [(SourceFile("gap.script", GAP), gap_diagnostics())],
     "crlf": lambda: [(SourceFile("crlf.script", CRLF), script_diagnostics(CRLF)[1:])],
     "two_files": lambda: [(SourceFile("example.script", SCRIPT), script_diagnostics()[:1]),
                           (SourceFile("clean.script", "[clean]\n"), []),

@@ -119,9 +119,12 @@ class _Annotation:
 
 
 def _snippet_line(text: str, annotations: list[_Annotation]) -> tuple[str, list[tuple[int, int]]]:
-    """The displayed line and, per annotation, its display column and width."""
+    """The displayed line and, per annotation, its display column and width. A line without
+    annotations (the one line shown between two annotated lines) is cut after MAX_LINE."""
     lo, hi = 0, len(text)
-    if hi > MAX_LINE:
+    if hi > MAX_LINE and not annotations:
+        hi = MAX_LINE
+    elif hi > MAX_LINE:
         first = min(a.start for a in annotations)
         last = max(a.end for a in annotations)
         # Some context before the first annotation, less when that brings the last one in.
