@@ -1,5 +1,5 @@
 """The thesis JSON back end (`scriptc.emit.json`): the golden files of the thesis, the layout,
-key order and value types of JSON.md, and what the back end refuses."""
+key order and value types of docs/json.md, and what the back end refuses."""
 
 from __future__ import annotations
 

@@ -1,6 +1,6 @@
 """Pass 6, audio track paths: empty (A003), absolute (A001), or leaving the activity
 repository once normalised (A002). The track `Silence` plays nothing and is always fine
-(RUNTIME.md). Whether the file exists is not this pass's business: it needs the repository.
+(docs/runtime.md). Whether the file exists is not this pass's business: it needs the repository.
 """
 
 from __future__ import annotations

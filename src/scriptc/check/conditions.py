@@ -1,4 +1,4 @@
-"""Pass 5, the conditions of jump blocks (rule grammar, LANGUAGE.md section 2, thesis 4.3):
+"""Pass 5, the conditions of jump blocks (rule grammar, docs/rules.md, thesis 4.3):
 classes (R001), fields (R002), functions against the registry (R003 unknown, R004 wrong kind,
 R005 wrong arity), aliases used before they are bound (R006), scopes (R007), aliases bound
 twice (R008) and `?THIS` outside the tests of a CLASS assignment (R009).

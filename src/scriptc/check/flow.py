@@ -2,10 +2,10 @@
 blocks that pass no instruction block (F002), and scripts without a terminus (F003).
 
 The control-flow graph has one node per block, in execution order (goal by goal, action by
-action, block by block; RUNTIME.md "The block reader"):
+action, block by block; docs/runtime.md "The block reader"):
 - an instruction or sensor block goes on to the next block;
 - a jump goes to its true target and to its false target, an empty target meaning the next
-  block (LANGUAGE.md, decided); a jump whose condition cannot be false takes the true branch
+  block (docs/language.md); a jump whose condition cannot be false takes the true branch
   only (`Condition.is_constant_true`);
 - a terminus goes nowhere; past the last block the script ends.
 Everything here is iterative (no recursion): scripts may have 10,000 blocks and more.

@@ -1,4 +1,4 @@
-"""Pass 2, labels and goal ids (LANGUAGE.md section 1): non-empty labels are unique (L001),
+"""Pass 2, labels and goal ids (docs/language.md): non-empty labels are unique (L001),
 goal ids are unique (L002), and every jump target names a label of the same script (L003).
 """
 

@@ -1,4 +1,4 @@
-"""Pass 4, values inside commands, rule messages and conditions (LANGUAGE.md "Static rules"):
+"""Pass 4, values inside commands, rule messages and conditions (docs/language.md):
 finite numbers (V003), colour channels in [0, 1] (V004), `turnas` 0 or 1 (V005), times whole,
 non-negative and within a C++ `int` (V006), rulecodes within uint32 (V007).
 

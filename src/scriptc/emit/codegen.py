@@ -13,7 +13,7 @@ Each block becomes a run of instructions, in the order of the script:
   its function's arguments, CALL_F, SET_VAR; an ATT assignment BOUND, the arguments, CALL_F,
   SET_ATT; an E evaluation is its arguments, CALL_E, JUMP_IF_FALSE to the false exit; `{TRUE}`
   is the true exit itself (what follows it is never reached, so it is not compiled:
-  LANGUAGE.md section 2);
+  docs/rules.md);
 - terminus: END; sensor block: PAYLOAD per text, SENSE, NEXT_BLOCK.
 
 Constants are shared (one per distinct text or number text). Each instruction's source span is

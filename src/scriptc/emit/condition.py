@@ -1,7 +1,7 @@
 """The canonical text of a rule-grammar condition: what a jump block's `toparse` holds in the
 thesis JSON and what `CND(...)` holds in the canonical script syntax.
 
-The layout is the thesis's own (JSON.md, thesis 4.3/4.4): one space between the elements of a
+The layout is the thesis's own (docs/json.md, thesis 4.3/4.4): one space between the elements of a
 condition, braces hugging their contents, `, ` between arguments and between the tests of a
 CLASS assignment. Numbers keep the text they were written with; strings are re-escaped with the
 two escapes of the language (`\\\\` and `\\"`). Examples:

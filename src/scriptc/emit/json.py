@@ -1,10 +1,10 @@
-"""IR -> the thesis JSON (JSON.md): the file the thesis's robot software loads.
+"""IR -> the thesis JSON (docs/json.md): the file the thesis's robot software loads.
 
 The text is laid out byte for byte as the thesis's own generator wrote it (`ScriptGen.cpp`,
 whose output is `tests/data/script_gen_test_act.json`): one element per line, no indentation,
 `"key":value` without spaces, `{` and `[` at the end of the line of their key, `}` and `]` on a
 line of their own, an empty array as `[` newline `]`, and a final newline after the closing
-brace. Key order is JSON.md's: `activityname`, `alfarulemessages`, `omegarulemessages`,
+brace. Key order is the thesis's (docs/json.md): `activityname`, `alfarulemessages`, `omegarulemessages`,
 `goal0`, `goal1`, ...; a goal holds `goalid` then `act0`, ...; an action `blk0`, ....
 
 Values follow the thesis's types: speeds and colour channels are JSON strings holding the number

@@ -1,4 +1,4 @@
-"""IR -> the canonical script syntax (LANGUAGE.md section 1): what `scriptc decompile` writes
+"""IR -> the canonical script syntax (docs/language.md): what `scriptc decompile` writes
 and what the Python API returns for a script built in code.
 
 One item per line; `[action]` indented two spaces under its goal, blocks four; no blank lines
@@ -56,7 +56,7 @@ def _led(cmd: LedCommand) -> str:
 
 
 def _audio(cmd: AudioCommand) -> str:
-    # LANGUAGE.md: the path is everything before the last two commas, so commas in the path
+    # docs/language.md: the path is everything before the last two commas, so commas in the path
     # need no escape.
     return quote(f"{cmd.track_path.value}, {cmd.wait_t.text}, {cmd.duration.text}")
 

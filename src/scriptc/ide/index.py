@@ -76,7 +76,7 @@ class Occurrence:
 
 
 def track_time(commands) -> float | None:
-    """The time a track takes: the sum of `wait_t + duration` over its commands (RUNTIME.md,
+    """The time a track takes: the sum of `wait_t + duration` over its commands (docs/runtime.md,
     "Instruction blocks"), None when a time is not a number."""
     total = 0.0
     for command in commands:

@@ -1,5 +1,5 @@
 """What the rule grammar can name: the map's classes and their fields (thesis 4.1, tables 4.1
-and 4.2) and the registry of B/F/E functions (LANGUAGE.md section 2).
+and 4.2) and the registry of B/F/E functions (docs/rules.md).
 
 The checker validates conditions against a `FunctionRegistry`; `STANDARD_FUNCTIONS` is the set
 the toolchain ships. Activity repositories extend it from their configuration. Only the

@@ -38,6 +38,7 @@ from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit, diagnost
 from scriptc.gcpause import gc_paused
 from scriptc.ir import nodes as ir
 from scriptc.ir.values import read_number
+from scriptc.language import name_problem
 from scriptc.source import SourceFile, Span
 from scriptc.syntax.jsonpos import JsonError, JsonNode, Member, parse_json, string_offsets
 
@@ -493,7 +494,7 @@ def _enum_problem(steps, path: str, node: JsonNode, error, source: str) -> Diagn
 
 
 def _numbering_problems(root: JsonNode) -> list[Diagnostic]:
-    """`goalN`, `actN`, `blkN` are numbered 0, 1, 2, ... without gaps (JSON.md: "numbering
+    """`goalN`, `actN`, `blkN` are numbered 0, 1, 2, ... without gaps (docs/json.md: "numbering
     starts at 0 inside each parent"; the robot walks them in order)."""
     out: list[Diagnostic] = []
     if root.kind != "object":
@@ -643,10 +644,21 @@ class _Reader:
                                for b, bm in enumerate(self.indexed(am.value, "blk")))
                 actions.append(ir.Action(blocks, am.key_span))
             goals.append(ir.Goal(self.name(gm.value.get("goalid")), tuple(actions), gm.key_span))
-        script = ir.Script(self.name(root.get("activityname")), alfa, omega, tuple(goals),
-                           root.span)
+        activity = self.name(root.get("activityname"))
+        self.activity_name(activity)
+        script = ir.Script(activity, alfa, omega, tuple(goals), root.span)
         self.diagnostics.sort(key=Diagnostic.sort_key)
         return script, self.diagnostics
+
+    def activity_name(self, name: ir.Name) -> None:
+        """The schema holds every name to the name pattern; an activity name must also not be
+        a word that opens an item, or the script `decompile` writes would not compile."""
+        problem = name_problem(name.text, activity=True)
+        if problem is not None:
+            self.diagnostics.append(diagnostic(
+                "J002", f"`activityname` is `{name.text}`, which cannot name an activity: "
+                f"{problem}", name.span, help="give the activity another name",
+                path="activityname"))
 
     def rule_message(self, node: JsonNode, kind: str) -> ir.RuleMessage:
         action = node.get("action")

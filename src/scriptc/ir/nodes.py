@@ -2,7 +2,7 @@
 
 Every node is frozen and slotted and carries the `Span` of the text it came from (offsets in
 the script, or in the JSON file for `scriptc check`). Numbers keep the text the user wrote,
-because the thesis JSON emits speeds and colours as that text (JSON.md).
+because the thesis JSON emits speeds and colours as that text (docs/json.md).
 
 Names keep their sigil where the language writes one as part of a reference: an alias is
 `?kid` (or `?THIS`), a variable `@count`, an attribute `$mood`; a class is `Human` (the `#`
@@ -95,7 +95,7 @@ class Text:
 
 
 # ---------------------------------------------------------------------------------------------
-# Conditions (the rule grammar, LANGUAGE.md section 2)
+# Conditions (the rule grammar, docs/rules.md)
 
 
 @node
@@ -327,7 +327,7 @@ class InstructionBlock:
     @property
     def duration_ms(self) -> int | None:
         """How long the block runs: its three tracks start together and each runs its
-        commands one after the other, `wait_t` then `duration` (RUNTIME.md), so the block
+        commands one after the other, `wait_t` then `duration` (docs/runtime.md), so the block
         lasts as long as its longest track. None when a time is not a whole number."""
         longest = 0
         for track in (self.moves, self.leds, self.audios):
@@ -347,7 +347,7 @@ class InstructionBlock:
 
 @node
 class JumpBlock:
-    """`TRJMP()`/`FLSJMP()` with no label continue with the next block (LANGUAGE.md)."""
+    """`TRJMP()`/`FLSJMP()` with no label continue with the next block (docs/language.md)."""
 
     label: Name | None
     condition: Condition

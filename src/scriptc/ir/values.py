@@ -12,7 +12,7 @@ from scriptc.diagnostics.model import Diagnostic, diagnostic
 from scriptc.ir.nodes import Number
 from scriptc.source import Span
 
-# LANGUAGE.md: decimal, optional sign and fraction. An exponent is accepted too (C++'s stof,
+# docs/language.md: decimal, optional sign and fraction. An exponent is accepted too (C++'s stof,
 # which read these fields on the robot, accepts it); ranges are checked by the checker.
 # ASCII digits only: `\d` would also accept digits of other scripts, which the robot cannot read.
 NUMBER = r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?"

@@ -1,4 +1,4 @@
-"""The runtime: scripts running in simulated time (RUNTIME.md; docs/runtime.md).
+"""The runtime: scripts running in simulated time (docs/runtime.md; thesis 4.2).
 
 Shared by every executor (what a bytecode VM reuses as it is):
 

@@ -1,5 +1,5 @@
 """The actuators: an instruction block's three timed tracks, what the robot's wheels, LEDs
-and speaker are doing, and the operator's joystick (thesis 3.1, 5.3; RUNTIME.md). Shared by
+and speaker are doing, and the operator's joystick (thesis 3.1, 5.3; docs/runtime.md). Shared by
 every executor: an executor hands over an `Instruction`, the actuators do the rest.
 
 Track timing (exact to the millisecond): the three tracks (`move`, `led`, `audioout`) start

@@ -1,6 +1,6 @@
 """Simulated time: one integer clock in milliseconds and a queue of future events.
 
-Nothing in the runtime reads the wall clock (RUNTIME.md "Time"). The session jumps from one
+Nothing in the runtime reads the wall clock (docs/runtime.md, "Time and the loop"). The session jumps from one
 event to the next (a heap: each push and pop is O(log n), no per-millisecond ticking), so a
 ten-minute activity costs what its events cost, not what its minutes cost.
 

@@ -1,4 +1,4 @@
-"""Evaluating rule-grammar conditions against the map (LANGUAGE.md section 2, thesis 4.3).
+"""Evaluating rule-grammar conditions against the map (docs/rules.md, thesis 4.3).
 
 Two layers:
 

@@ -5,7 +5,7 @@ label table, and one loop.
 
 - an instruction block is returned as plain values (`Instruction`) and reading stops;
 - a jump evaluates its condition with the shared evaluator (`evaluate.py`) and goes to its
-  true or false target; an empty target is the next block in order (LANGUAGE.md); a label
+  true or false target; an empty target is the next block in order (docs/language.md); a label
   carried by several blocks names the first of them (as the checker reads it, L001);
 - a sensor block is reported and reading goes on;
 - a terminus ends the script; so does running past the last block.

@@ -3,7 +3,7 @@
 Shared by every executor (the IR interpreter, the bytecode VM): commands are floats and whole
 milliseconds, not IR nodes, so the actuators, rules and traces never see where a script came
 from. Also the one answer to "is this a number" and "how do two values compare" at run time
-(LANGUAGE.md section 2: numeric when both sides are numbers, else text).
+(docs/rules.md: numeric when both sides are numbers, else text).
 """
 
 from __future__ import annotations
@@ -96,7 +96,7 @@ class Instruction:
     @property
     def length(self) -> int:
         """Milliseconds from issue to consumption when nothing interferes: the longest track,
-        each track being the sum of its commands' `wait_t + duration` (RUNTIME.md)."""
+        each track being the sum of its commands' `wait_t + duration` (docs/runtime.md)."""
         return max(sum(c.wait_t + c.duration for c in track)
                    for track in (self.moves, self.leds, self.audios))
 

@@ -2,7 +2,7 @@
 body-frame velocities (docs/robot.md). The only module of scriptc that imports `mujoco`
 (the `mujoco-core` package: the physics, without a viewer or GL; it runs headless).
 
-Stepping (RUNTIME.md, "The simulated robot"): the session calls `set_velocity` only when the
+Stepping (docs/robot.md, "Stepping"): the session calls `set_velocity` only when the
 velocity changes, so the control is written once per change and `advance` steps all the
 physics steps up to the requested time in one `mj_step(model, data, nstep=n)` call. The
 model's timestep is 1 ms, so every duration of a script (whole milliseconds) lands on a whole
