@@ -20,6 +20,7 @@ from typing import Any, NamedTuple
 from scriptc.config.model import (ALL, ROBOT_KEYS, SEVERITIES, RobotProfile, Settings,
                                   UserFunction, UserRule)
 from scriptc.diagnostics.model import Diagnostic, diagnostic
+from scriptc.language import is_name
 from scriptc.source import SourceFile, Span
 
 CONFIG_FILES = ("scriptc.toml", "pyproject.toml")
@@ -210,7 +211,7 @@ def _number(value: Any) -> float | None:
 
 
 def _name(value: Any) -> str | None:
-    if isinstance(value, str) and re.fullmatch(r"[A-Za-z_][A-Za-z0-9_-]*", value):
+    if isinstance(value, str) and is_name(value):
         return value
     return None
 

@@ -25,6 +25,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from scriptc.ir.builtins import STANDARD_FUNCTIONS, Function, FunctionRegistry, Param
+from scriptc.language import name_problem
 from scriptc.runtime.values import Value, as_number, compare, to_text
 from scriptc.runtime.world import Entity, World
 
@@ -86,8 +87,9 @@ class Implementations:
         """Add (or replace) a function. `fn(call, *args)`; see the module's docstring."""
         if kind not in KINDS:
             raise ValueError(f"a function's kind is B, F or E, not {kind!r}")
-        if not name.isidentifier():
-            raise ValueError(f"{name!r} is not a function name")
+        problem = name_problem(name) if isinstance(name, str) else "a name is a string"
+        if problem is not None:
+            raise ValueError(f"{name!r} is not a function name: {problem}")
         if params and len(params) != arity:
             raise ValueError(f"{name}: {len(params)} parameter names for arity {arity}")
         impl = FunctionImpl(name, kind, arity, fn, doc, tuple(params), origin)
