@@ -1,6 +1,7 @@
-"""scriptc.server.convert, without a server: offsets <-> UTF-16 positions (emoji, accents,
-line breaks of every kind, lone surrogates), edits that split a surrogate pair, the layout of
-an analysis text with pads, and the JSON forms sent as they are."""
+"""scriptc.server.convert, without a server: offsets <-> positions in each position encoding
+(UTF-8, UTF-16, UTF-32; emoji, accents, line breaks of every kind, lone surrogates), edits
+that split a surrogate pair or land after non-ASCII text, the layout of an analysis text with
+pads, and the JSON forms sent as they are."""
 
 from __future__ import annotations
 
@@ -16,8 +17,13 @@ from scriptc.source import SourceFile, Span
 TEXT = "[a]\r\n% é😀x %\n\ud83d[b]\r[c]😀"
 
 
-def units_before(text: str, offset: int) -> tuple[int, int]:
-    """(line, UTF-16 column) of an offset, counted here the slow, obvious way."""
+# The encodings' codecs and the bytes of one code unit: the tests count with Python's codecs.
+CODECS = {"utf-8": ("utf-8", 1), "utf-16": ("utf-16-le", 2), "utf-32": ("utf-32-le", 4)}
+
+
+def units_before(text: str, offset: int, encoding: str = "utf-16") -> tuple[int, int]:
+    """(line, column in the encoding's units) of an offset, counted here the slow, obvious
+    way."""
     line_start, line = 0, 0
     i = 0
     while i < offset:
@@ -31,21 +37,63 @@ def units_before(text: str, offset: int) -> tuple[int, int]:
             line += 1
             line_start = i + 1
         i += 1
-    return line, len(text[line_start:offset].encode("utf-16-le", "surrogatepass")) // 2
+    codec, size = CODECS[encoding]
+    return line, len(text[line_start:offset].encode(codec, "surrogatepass")) // size
 
 
+def test_the_encodings_are_the_protocols():
+    assert set(convert.ENCODINGS) == {str(k.value) for k in lsp.PositionEncodingKind} == set(CODECS)
+
+
+@pytest.mark.parametrize("encoding", convert.ENCODINGS)
 @pytest.mark.parametrize("offset", range(len(TEXT) + 1))
-def test_positions_count_utf16_units(offset):
-    p = convert.text_positions(SourceFile("x", TEXT))
+def test_positions_count_the_units_of_the_encoding(offset, encoding):
+    p = convert.text_positions(TEXT, encoding)
     if offset > 0 and TEXT[offset - 1] == "\r" and offset < len(TEXT) and TEXT[offset] == "\n":
         return  # between the \r and \n of one line break: not a position of the protocol
     position = p.position(offset)
-    assert (position.line, position.character) == units_before(TEXT, offset)
+    assert (position.line, position.character) == units_before(TEXT, offset, encoding)
     assert p.offset(position) == offset
+    assert p.units(TEXT[:offset]) == len(TEXT[:offset].encode(CODECS[encoding][0],
+                                                               "surrogatepass")) // CODECS[encoding][1]
+
+
+def test_an_unknown_encoding_is_refused():
+    with pytest.raises(ValueError, match="utf-7"):
+        convert.text_positions(TEXT, "utf-7")
+
+
+def test_a_position_inside_a_utf8_sequence_is_the_start_of_its_character():
+    p = convert.text_positions(TEXT, "utf-8")
+    second = TEXT.index("%")  # line 1: `% é😀x %`, é two bytes, 😀 four
+    assert p.locate(lsp.Position(1, 3)) == (second + 2, False)  # inside é
+    assert p.locate(lsp.Position(1, 4)) == (second + 3, False)  # after é
+    for inside in (5, 6, 7):
+        assert p.locate(lsp.Position(1, inside)) == (second + 3, False)  # inside 😀
+    assert p.locate(lsp.Position(1, 8)) == (second + 4, False)
+    assert p.locate(lsp.Position(1, 99)) == (TEXT.index("\n", second), False)
+
+
+@pytest.mark.parametrize("encoding", convert.ENCODINGS)
+def test_edits_after_non_ascii_text_land_where_the_client_made_them(encoding):
+    """An insertion after `é😀` and a deletion of the `x` after them, with the client's
+    positions counted in each encoding: the document is the client's text each time."""
+    doc = Document("x", "[a] é😀x\n[b] 😀")
+    column = units_before(doc.text, doc.text.index("x"), encoding)[1]
+    at = lsp.Position(0, column)
+    doc.replace(*convert.change_to_edit(doc.text, lsp.Range(at, at), "ü", encoding))
+    assert doc.text == "[a] é😀üx\n[b] 😀"
+    after = lsp.Position(0, column + units_before("ü", 1, encoding)[1])
+    x = lsp.Range(after, lsp.Position(after.line, after.character + 1))
+    doc.replace(*convert.change_to_edit(doc.text, x, "", encoding))
+    assert doc.text == "[a] é😀ü\n[b] 😀"
+    end = lsp.Position(1, units_before(doc.text, len(doc.text), encoding)[1])
+    doc.replace(*convert.change_to_edit(doc.text, lsp.Range(end, end), "!", encoding))
+    assert doc.text == "[a] é😀ü\n[b] 😀!"
 
 
 def test_positions_past_the_end_are_clamped():
-    p = convert.text_positions(SourceFile("x", TEXT))
+    p = convert.text_positions(TEXT)
     assert p.offset(lsp.Position(0, 99)) == 3  # the end of `[a]`, before \r\n
     assert p.offset(lsp.Position(99, 0)) == len(TEXT)
     second = TEXT.index("%")
@@ -54,12 +102,11 @@ def test_positions_past_the_end_are_clamped():
 
 def test_an_edit_between_surrogate_halves_keeps_both_halves():
     doc = Document("x", "[a] 😀")
-    source = SourceFile("x", doc.text)
-    start, end, new = convert.change_to_edit(source, lsp.Range(lsp.Position(0, 5), lsp.Position(0, 5)), "X")
+    start, end, new = convert.change_to_edit(doc.text, lsp.Range(lsp.Position(0, 5), lsp.Position(0, 5)), "X")
     doc.replace(start, end, new)
     assert doc.text == "[a] \ud83dX\ude00"
     # Deleting the X joins the pair again, as in the client's UTF-16 text.
-    start, end, new = convert.change_to_edit(SourceFile("x", doc.text),
+    start, end, new = convert.change_to_edit(doc.text,
                                              lsp.Range(lsp.Position(0, 5), lsp.Position(0, 6)), "")
     doc.replace(start, end, new)
     assert doc.text == "[a] 😀"
@@ -67,7 +114,7 @@ def test_an_edit_between_surrogate_halves_keeps_both_halves():
 
 def test_a_range_from_the_middle_of_one_emoji_to_the_middle_of_another():
     doc = Document("x", "😀ab🎵")
-    start, end, new = convert.change_to_edit(SourceFile("x", doc.text),
+    start, end, new = convert.change_to_edit(doc.text,
                                              lsp.Range(lsp.Position(0, 3), lsp.Position(0, 1)), "")
     doc.replace(start, end, new)  # the range given backwards: units 1..3 go
     assert doc.text.encode("utf-16-le", "surrogatepass") == \
@@ -90,7 +137,7 @@ def test_diagnostic_conversion():
     text = "[a]\n[goal:g]\n[action]\n[b#x#blk_inst: MV() LD() AO()]\n[b#x#blk_terminus]\n"
     source = SourceFile("x", text)
     (d,) = analyze_script(source).diagnostics
-    out = convert.diagnostic(convert.text_positions(source), "file:///x", d)
+    out = convert.diagnostic(convert.text_positions(source.text), "file:///x", d)
     assert (out.code, out.message, out.source) == ("L001", d.message, "scriptc")
     assert out.range == lsp.Range(lsp.Position(4, 3), lsp.Position(4, 4))
     assert out.code_description.href.endswith("/explanations/L001.md")
@@ -100,7 +147,7 @@ def test_diagnostic_conversion():
 def test_semantic_tokens_cut_at_line_ends_and_count_units():
     source = SourceFile("x", "% 😀\nab %[a]")
     tokens = [model.SemanticToken(Span(0, 8), "comment"), model.SemanticToken(Span(9, 10), "namespace")]
-    data = convert.semantic_tokens(convert.text_positions(source), tokens).value["data"]
+    data = convert.semantic_tokens(convert.text_positions(source.text), tokens).value["data"]
     comment, namespace = convert._TYPE_INDEX["comment"], convert._TYPE_INDEX["namespace"]
     assert data == [0, 0, 4, comment, 0,   # `% 😀` is 4 units
                     1, 0, 4, comment, 0,   # `ab %`
@@ -110,8 +157,8 @@ def test_semantic_tokens_cut_at_line_ends_and_count_units():
 def test_completion_json():
     source = SourceFile("x", "[a] é")
     items = [model.CompletionItem("goal:", "item", Span(5, 5), snippet="goal:${1:id}", insert_text="goal:")]
-    with_snippets = convert.completion_list(convert.text_positions(source), items, True).value
-    without = convert.completion_list(convert.text_positions(source), items, False).value
+    with_snippets = convert.completion_list(convert.text_positions(source.text), items, True).value
+    without = convert.completion_list(convert.text_positions(source.text), items, False).value
     assert with_snippets["items"][0]["textEdit"] == {
         "range": {"start": {"line": 0, "character": 5}, "end": {"line": 0, "character": 5}},
         "newText": "goal:${1:id}"}

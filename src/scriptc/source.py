@@ -2,8 +2,9 @@
 
 A `Span` is a pair of character offsets into one `SourceFile`'s text (code points, end
 exclusive). Lines and columns are computed only when something is shown to a person or an
-editor: `SourceFile.position(offset)` gives 1-based line and column in code points, and
-`utf16_column` converts for the language server protocol.
+editor: `SourceFile.position(offset)` gives 1-based line and column in code points. The
+language server's positions (columns in UTF-8, UTF-16 or UTF-32 units) are
+`scriptc.server.convert`'s alone.
 """
 
 from __future__ import annotations
@@ -98,24 +99,3 @@ class SourceFile:
 
     def line_text(self, line_index: int) -> str:
         return self.text[self.line_starts[line_index] : self.line_end(line_index)]
-
-    def utf16_column(self, offset: int) -> int:
-        """0-based UTF-16 column of `offset` on its line (the LSP's unit)."""
-        line = self.line_of(offset)
-        segment = self.text[self.line_starts[line] : offset]
-        return sum(2 if ord(ch) > 0xFFFF else 1 for ch in segment)
-
-    def offset_from_utf16(self, line_index: int, utf16_column: int) -> int:
-        """Offset of a 0-based line and UTF-16 column; out-of-range values are clamped."""
-        starts = self.line_starts
-        if line_index < 0:
-            return 0
-        if line_index >= len(starts):
-            return len(self.text)
-        offset = starts[line_index]
-        end = self.line_end(line_index)
-        units = 0
-        while offset < end and units < utf16_column:
-            units += 2 if ord(self.text[offset]) > 0xFFFF else 1
-            offset += 1
-        return offset

@@ -41,7 +41,10 @@ def make_client() -> LanguageClient:
 CONFIG = ClientServerConfig(server_command=SERVER_COMMAND, client_factory=make_client)
 
 
-def capabilities(*, pull: bool = False, snippets: bool = True) -> lsp.ClientCapabilities:
+def capabilities(*, pull: bool = False, snippets: bool = True,
+                 encodings: tuple[str, ...] = ("utf-16",)) -> lsp.ClientCapabilities:
+    """The tests' client capabilities; `encodings`: the position encodings offered, in order
+    of preference."""
     return lsp.ClientCapabilities(
         text_document=lsp.TextDocumentClientCapabilities(
             completion=lsp.CompletionClientCapabilities(
@@ -50,15 +53,24 @@ def capabilities(*, pull: bool = False, snippets: bool = True) -> lsp.ClientCapa
             diagnostic=lsp.DiagnosticClientCapabilities() if pull else None,
             publish_diagnostics=lsp.PublishDiagnosticsClientCapabilities(related_information=True),
         ),
-        general=lsp.GeneralClientCapabilities(position_encodings=[lsp.PositionEncodingKind.Utf16]),
+        general=lsp.GeneralClientCapabilities(
+            position_encodings=[lsp.PositionEncodingKind(e) for e in encodings]),
     )
 
 
-async def start(client: LanguageClient, *, pull: bool = False) -> lsp.InitializeResult:
-    """Initialize the session; the result is kept as `client.init_result`."""
+async def start(client: LanguageClient, *, pull: bool = False,
+                encodings: tuple[str, ...] = ("utf-16",)) -> lsp.InitializeResult:
+    """Initialize the session; the result is kept as `client.init_result`, and the position
+    encoding the server chose as `client.encoding` (the tests' documents count in it)."""
     client.init_result = await client.initialize_session(
-        lsp.InitializeParams(capabilities=capabilities(pull=pull)))
+        lsp.InitializeParams(capabilities=capabilities(pull=pull, encodings=encodings)))
+    client.encoding = str(getattr(client.init_result.capabilities.position_encoding, "value",
+                                  client.init_result.capabilities.position_encoding))
     return client.init_result
+
+
+# The position encodings' codecs, and the bytes of one code unit.
+CODECS = {"utf-8": ("utf-8", 1), "utf-16": ("utf-16-le", 2), "utf-32": ("utf-32-le", 4)}
 
 
 async def diagnostics_of(client: LanguageClient, uri: str, version: int | None,
@@ -76,13 +88,16 @@ async def diagnostics_of(client: LanguageClient, uri: str, version: int | None,
 
 
 class Doc:
-    """A document opened in the server, edited through the client."""
+    """A document opened in the server, edited through the client, whose positions count in
+    the client's position encoding (`client.encoding`, UTF-16 unless the test's session
+    chose another)."""
 
     def __init__(self, client: LanguageClient, uri: str, text: str) -> None:
         self.client = client
         self.uri = uri
         self.text = text
         self.version = 1
+        self.codec, self.unit = CODECS[getattr(client, "encoding", "utf-16")]
 
     @classmethod
     async def open(cls, client: LanguageClient, name: str, text: str) -> Doc:
@@ -101,11 +116,11 @@ class Doc:
 
     def position(self, offset: int) -> lsp.Position:
         """The protocol position of a code-point offset (computed here independently of the
-        server's conversion: UTF-16 units since the line's start)."""
+        server's conversion: the encoding's units since the line's start)."""
         before = self.text[:offset]
         line = before.count("\n")
         column = before[before.rfind("\n") + 1:]
-        return lsp.Position(line, len(column.encode("utf-16-le")) // 2)
+        return lsp.Position(line, len(column.encode(self.codec, "surrogatepass")) // self.unit)
 
     def at(self, marker: str, delta: int = 0) -> lsp.Position:
         """The position of the first occurrence of `marker`, moved by `delta` code points."""
@@ -115,8 +130,8 @@ class Doc:
     def offset(self, position: lsp.Position) -> int:
         lines = self.text.split("\n")
         prefix = sum(len(line) + 1 for line in lines[:position.line])
-        units = lines[position.line].encode("utf-16-le")[:position.character * 2]
-        return prefix + len(units.decode("utf-16-le"))
+        units = lines[position.line].encode(self.codec, "surrogatepass")
+        return prefix + len(units[:position.character * self.unit].decode(self.codec, "surrogatepass"))
 
     def range_text(self, range_: lsp.Range) -> str:
         return self.text[self.offset(range_.start):self.offset(range_.end)]
@@ -141,6 +156,21 @@ class Doc:
 
     def close(self) -> None:
         self.client.text_document_did_close(lsp.DidCloseTextDocumentParams(self.id))
+
+
+def decode(legend: lsp.SemanticTokensLegend, doc: Doc, data: list[int]) -> list[tuple[str, str, list[str]]]:
+    """Semantic tokens in the protocol's relative encoding, as (text, type, modifiers)."""
+    out = []
+    line = col = 0
+    for i in range(0, len(data), 5):
+        dline, dcol, length, type_, mods = data[i:i + 5]
+        col = col + dcol if dline == 0 else dcol
+        line += dline
+        start = lsp.Position(line, col)
+        end = lsp.Position(line, col + length)
+        names = [m for bit, m in enumerate(legend.token_modifiers) if mods & (1 << bit)]
+        out.append((doc.range_text(lsp.Range(start, end)), legend.token_types[type_], names))
+    return out
 
 
 def apply_edits(text: str, doc: Doc, edits: list[lsp.TextEdit]) -> str:

@@ -108,7 +108,7 @@ def random_change(model: Utf16Text, rng: random.Random):
 
 def expected(text: str) -> list[tuple]:
     source = SourceFile("x", text)
-    p = convert.text_positions(source)
+    p = convert.text_positions(text)
     return [(d.code, d.message, convert.diagnostic(p, "u", d).range)
             for d in analyze_script(source).diagnostics]
 

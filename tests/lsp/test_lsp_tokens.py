@@ -6,7 +6,7 @@ import pytest
 import pytest_asyncio
 from lsprotocol import types as lsp
 
-from lsptest import Doc
+from lsptest import Doc, decode
 
 pytestmark = pytest.mark.asyncio(loop_scope="module")
 
@@ -17,20 +17,6 @@ TEXT = """\
   [action]
     [b#ask#blk_jump: CND({CLASS #Human U ?kid (?THIS>&positionrho OP< 1.5)} ! {E: gt(?kid>&permanencetime, 2)}) TRJMP(ask) FLSJMP()]
 """
-
-
-def decode(legend: lsp.SemanticTokensLegend, doc: Doc, data: list[int]) -> list[tuple[str, str, list[str]]]:
-    out = []
-    line = col = 0
-    for i in range(0, len(data), 5):
-        dline, dcol, length, type_, mods = data[i:i + 5]
-        col = col + dcol if dline == 0 else dcol
-        line += dline
-        start = lsp.Position(line, col)
-        end = lsp.Position(line, col + length)
-        names = [m for bit, m in enumerate(legend.token_modifiers) if mods & (1 << bit)]
-        out.append((doc.range_text(lsp.Range(start, end)), legend.token_types[type_], names))
-    return out
 
 
 @pytest_asyncio.fixture(scope="module", loop_scope="module")

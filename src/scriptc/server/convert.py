@@ -1,13 +1,24 @@
 """All conversion between the editor API (`scriptc.ide`: offsets, plain data) and the protocol
-(`lsprotocol` types: lines and UTF-16 columns). Nothing else in scriptc computes an LSP
-position or builds an LSP type; the handlers of `scriptc.server.main` call these functions.
+(`lsprotocol` types: lines, and columns in the negotiated position encoding). Nothing else in
+scriptc computes an LSP position or builds an LSP type; the handlers of `scriptc.server.main`
+call these functions.
 
-Positions: the protocol counts UTF-16 code units within a line; scriptc counts code points
-in the whole text. A character outside the Basic Multilingual Plane (an emoji) is one code
-point and two units. Incoming positions are clamped as the protocol says (a character past
-the end of its line means the end of the line; a line past the last means the end of the
-text); a position between the two halves of a surrogate pair is kept exact when it comes
-with an edit (`change_to_edit`), and rounded down to the start of the character otherwise.
+Positions: scriptc counts code points in the whole text; the protocol counts lines, and
+columns in the code units of the position encoding that client and server agreed on at
+`initialize` (`positionEncoding`): UTF-16 code units unless the client offered another
+(`utf-8`: bytes, `utf-32`: code points). An accented letter is one UTF-16 unit and two UTF-8
+bytes; a character outside the Basic Multilingual Plane (an emoji) is one code point, two
+UTF-16 units and four bytes. Every position in and out goes through `Positions`, which
+counts in its encoding, so the server's copy of a document stays the client's whatever it
+negotiated.
+
+Incoming positions are clamped as the protocol says (a character past the end of its line
+means the end of the line; a line past the last means the end of the text). A position
+inside a character (between the two halves of a UTF-16 surrogate pair, or among the bytes of
+one UTF-8 sequence) names no character: in UTF-16 it is kept exact when it comes with an edit
+(`change_to_edit`: the client's UTF-16 text really is split there), and otherwise rounded down
+to the start of the character; in UTF-8 it is always rounded down (a client's UTF-8 text
+cannot hold half a character).
 """
 
 from __future__ import annotations
@@ -73,26 +84,55 @@ LEGEND = lsp.SemanticTokensLegend(token_types=list(TYPES), token_modifiers=list(
 
 # -- positions ------------------------------------------------------------------------------------
 
+UTF8 = lsp.PositionEncodingKind.Utf8.value
+UTF16 = lsp.PositionEncodingKind.Utf16.value
+UTF32 = lsp.PositionEncodingKind.Utf32.value
+ENCODINGS = (UTF8, UTF16, UTF32)
 
-def _units(text: str) -> int:
-    """The length of `text` in UTF-16 code units."""
-    if text.isascii():
+
+def units(text: str, encoding: str = UTF16) -> int:
+    """The length of `text` in code units of a position encoding. Lone surrogates (a client's
+    UTF-16 text split inside an emoji) count one UTF-16 unit each."""
+    if encoding == UTF32 or text.isascii():
         return len(text)
-    return len(text) + sum(1 for ch in text if ord(ch) > 0xFFFF)
+    if encoding == UTF16:
+        return len(text.encode("utf-16-le", "surrogatepass")) >> 1
+    return len(text.encode("utf-8", "surrogatepass"))
+
+
+def _width(ch: str, encoding: str) -> int:
+    """The code units of one character."""
+    code = ord(ch)
+    if encoding == UTF16:
+        return 2 if code > 0xFFFF else 1
+    if encoding == UTF8:
+        return 1 if code < 0x80 else 2 if code < 0x800 else 3 if code < 0x10000 else 4
+    return 1
 
 
 class Positions:
-    """Offsets <-> protocol positions for one document. Offsets are those of a snapshot (its
-    analysis text, see `scriptc.ide.layout`), converted through `layout` to offsets of the
-    document's text, whose lines and UTF-16 columns the protocol counts. Lines of ASCII text
-    (the usual case) need no counting: their UTF-16 column is the distance from the line's
-    start."""
+    """Offsets <-> protocol positions for one document, counted in one position encoding.
+    Offsets are those of a snapshot (its analysis text, see `scriptc.ide.layout`), converted
+    through `layout` to offsets of the document's text, whose lines and columns the protocol
+    counts. Lines of ASCII text (the usual case) need no counting: in every encoding, their
+    column is the distance from the line's start."""
 
-    def __init__(self, source: SourceFile, layout: Layout = IDENTITY) -> None:
+    __slots__ = ("source", "layout", "text", "ascii", "encoding")
+
+    def __init__(self, source: SourceFile, layout: Layout = IDENTITY,
+                 encoding: str = UTF16) -> None:
+        if encoding not in ENCODINGS:
+            raise ValueError(f"unknown position encoding {encoding!r}")
         self.source = source  # the document's text
         self.layout = layout
         self.text = source.text
-        self.ascii = self.text.isascii()
+        self.encoding = encoding
+        # Code points are UTF-32's units: every text counts as plain.
+        self.ascii = encoding == UTF32 or self.text.isascii()
+
+    def units(self, text: str) -> int:
+        """The length of a piece of the text in this encoding's code units."""
+        return len(text) if self.ascii else units(text, self.encoding)
 
     def position(self, offset: int) -> lsp.Position:
         return self._position(self.layout.to_real(offset))
@@ -104,14 +144,15 @@ class Positions:
         start = source.line_starts[line]
         if self.ascii:
             return lsp.Position(line, offset - start)
-        return lsp.Position(line, _units(self.text[start:offset]))
+        return lsp.Position(line, units(self.text[start:offset], self.encoding))
 
     def range(self, span: Span) -> lsp.Range:
         return lsp.Range(self.position(span.start), self.position(span.end))
 
     def locate(self, position: lsp.Position) -> tuple[int, bool]:
         """The document offset of a protocol position, and whether it falls between the two
-        halves of a surrogate pair (then the offset is that of the character it splits)."""
+        halves of a UTF-16 surrogate pair (then the offset is that of the character it
+        splits). A position among the bytes of a UTF-8 sequence is that character's start."""
         source = self.source
         starts = source.line_starts
         line, character = position.line, position.character
@@ -124,13 +165,14 @@ class Positions:
         if self.ascii:
             return min(start + max(character, 0), end), False
         text = self.text
-        units = 0
+        encoding = self.encoding
+        count = 0
         offset = start
-        while offset < end and units < character:
-            units += 2 if ord(text[offset]) > 0xFFFF else 1
+        while offset < end and count < character:
+            count += _width(text[offset], encoding)
             offset += 1
-        if units > character:
-            return offset - 1, True
+        if count > character:
+            return offset - 1, encoding == UTF16
         return offset, False
 
     def offset(self, position: lsp.Position) -> int:
@@ -142,37 +184,38 @@ class Positions:
         return Span(min(a, b), max(a, b))
 
 
-def positions(snapshot) -> Positions:
-    """The converter of a snapshot's offsets, made once per snapshot."""
+def positions(snapshot, encoding: str = UTF16) -> Positions:
+    """The converter of a snapshot's offsets, made once per snapshot (and encoding)."""
     found = snapshot.__dict__.get("_lsp_positions")
-    if found is None:
+    if found is None or found.encoding != encoding:
         found = snapshot.__dict__["_lsp_positions"] = Positions(snapshot.real_source,
-                                                                snapshot.layout)
+                                                                snapshot.layout, encoding)
     return found
 
 
-def text_positions(source: SourceFile) -> Positions:
-    """The converter of a plain text (no layout): for edits to a document's text."""
-    found = source.__dict__.get("_lsp_positions")
-    if found is None:
-        found = source.__dict__["_lsp_positions"] = Positions(source)
-    return found
+def text_positions(text: str, encoding: str = UTF16) -> Positions:
+    """The converter of a plain text (no layout): for edits to a document's text. Made anew
+    each time (a converter kept on its own text would make a reference cycle, which the
+    server, running with the collector off, would keep until it is idle)."""
+    return Positions(SourceFile("", text), IDENTITY, encoding)
 
 
-def change_to_edit(source: SourceFile, range_: lsp.Range, new_text: str) -> tuple[int, int, str]:
-    """An incremental change as `(start, end, new_text)` in code points. An end of the range
-    between the halves of a surrogate pair widens the edit to the whole character and keeps
-    the half that stays, so the result is what the client's UTF-16 text becomes."""
-    p = text_positions(source)
+def change_to_edit(text: str, range_: lsp.Range, new_text: str,
+                   encoding: str = UTF16) -> tuple[int, int, str]:
+    """An incremental change of the document `text` as `(start, end, new_text)` in code
+    points. In UTF-16, an end of the range between the halves of a surrogate pair widens the
+    edit to the whole character and keeps the half that stays, so the result is what the
+    client's UTF-16 text becomes."""
+    p = text_positions(text, encoding)
     start, start_split = p.locate(range_.start)
     end, end_split = p.locate(range_.end)
     if (end, end_split) < (start, start_split):
         start, start_split, end, end_split = end, end_split, start, start_split
     prefix = suffix = ""
     if start_split:
-        prefix = _halves(source.text[start])[0]
+        prefix = _halves(text[start])[0]
     if end_split:
-        suffix = _halves(source.text[end])[1]
+        suffix = _halves(text[end])[1]
         end += 1
     return start, end, prefix + new_text + suffix
 
@@ -309,8 +352,9 @@ def folding_ranges(p: Positions, folds: list[model.Fold]) -> list[lsp.FoldingRan
 
 
 def semantic_tokens(p: Positions, tokens: list[model.SemanticToken]) -> Json:
-    """The protocol's relative encoding: per token, the line delta, the start delta (UTF-16,
-    from the previous token on the same line), the length, the type and the modifier bits.
+    """The protocol's relative encoding: per token, the line delta, the start delta (in the
+    position encoding's units, from the previous token on the same line), the length, the
+    type and the modifier bits.
     Tokens over several lines (comments) are cut at line ends. Tokens come in text order, so
     the line is found by walking forward, not searched for each token."""
     source = p.source
@@ -320,6 +364,7 @@ def semantic_tokens(p: Positions, tokens: list[model.SemanticToken]) -> Json:
     to_real = p.layout.to_real
     identity = p.layout.identity
     ascii_ = p.ascii
+    count = p.units
     data: list[int] = []
     last_line = last_col = 0
     line = 0
@@ -343,7 +388,7 @@ def semantic_tokens(p: Positions, tokens: list[model.SemanticToken]) -> Json:
             if ascii_:
                 col, length = start - starts[line], end - start
             else:
-                col, length = _units(text[starts[line]:start]), _units(text[start:end])
+                col, length = count(text[starts[line]:start]), count(text[start:end])
             data += (line - last_line, col - last_col if line == last_line else col, length,
                      type_index, bits)
             last_line, last_col = line, col
@@ -352,9 +397,9 @@ def semantic_tokens(p: Positions, tokens: list[model.SemanticToken]) -> Json:
         while start < end:
             piece_end = min(end, source.line_end(piece_line))
             if piece_end > start:
-                col = _units(text[starts[piece_line]:start])
+                col = count(text[starts[piece_line]:start])
                 data += (piece_line - last_line, col - last_col if piece_line == last_line else col,
-                         _units(text[start:piece_end]), type_index, bits)
+                         count(text[start:piece_end]), type_index, bits)
                 last_line, last_col = piece_line, col
             piece_line += 1
             if piece_line >= lines:

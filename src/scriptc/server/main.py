@@ -10,6 +10,10 @@ Decisions:
   once, with the protocol's line breaks (pygls splits lines on `\\f`, `\\v`, U+2028... too)
   and with ranges that the protocol allows but pygls mishandles (past the end, between the
   halves of a surrogate pair) clamped or kept exact.
+- **Positions** are counted in the encoding negotiated at `initialize`: the client's first
+  offer among UTF-8, UTF-16 and UTF-32 (pygls chooses it and answers `positionEncoding`),
+  UTF-16 when it offers none. `ScriptcServer.encoding` holds it; every conversion, incoming
+  edits and ranges as well as everything sent, goes through `scriptc.server.convert` with it.
 - **Diagnostics** are analysed right after the changes received so far, without debounce
   (a keystroke in a 90 KB script costs 15-25 ms, see bench/bench_lsp.py: a timer would only
   add latency), and pushed; a burst of changes already waiting is analysed once, at its end
@@ -56,7 +60,6 @@ from scriptc.ide import actions, completion, formatting, hints, hover, navigatio
 from scriptc.ide.document import Document
 from scriptc.ide.model import RenameError
 from scriptc.server import convert
-from scriptc.source import SourceFile
 
 log = logging.getLogger("scriptc.server")
 
@@ -104,6 +107,9 @@ class ScriptcServer(LanguageServer):
         self._idle: asyncio.TimerHandle | None = None
         self._dirty: dict[str, Document] = {}  # documents whose diagnostics are due
         self.pull = False  # the client pulls diagnostics
+        # The position encoding agreed at `initialize` (the client's first offer that
+        # pygls supports, answered as `positionEncoding`): every position is counted in it.
+        self.encoding = convert.UTF16
 
     # -- documents ---------------------------------------------------------------------------
 
@@ -160,8 +166,8 @@ class ScriptcServer(LanguageServer):
                 continue  # closed (or reopened) since
             try:
                 snapshot = self.analysed(doc)
-                diagnostics = convert.diagnostics(convert.positions(snapshot), uri,
-                                                  snapshot.diagnostics)
+                diagnostics = convert.diagnostics(convert.positions(snapshot, self.encoding),
+                                                  uri, snapshot.diagnostics)
             except Exception:  # noqa: BLE001 - one document's bug must not silence the others
                 log.exception("cannot analyse %s", uri)
                 continue
@@ -204,6 +210,9 @@ def diagnostic_modes(capabilities: lsp.ClientCapabilities | None, options) -> tu
 def initialize(ls: ScriptcServer, params: lsp.InitializeParams) -> None:
     capabilities = params.capabilities
     ls.push, ls.pull = diagnostic_modes(capabilities, params.initialization_options)
+    # pygls has chosen the encoding (and answers it); count in the same one.
+    ls.encoding = str(getattr(ls.workspace.position_encoding, "value",
+                              ls.workspace.position_encoding) or convert.UTF16)
     text = capabilities.text_document if capabilities else None
     completion_caps = text.completion if text is not None else None
     item_caps = completion_caps.completion_item if completion_caps is not None else None
@@ -291,8 +300,8 @@ def did_change(ls: ScriptcServer, params: lsp.DidChangeTextDocumentParams) -> No
         return
     for change in params.content_changes:
         if isinstance(change, lsp.TextDocumentContentChangePartial):
-            start, end, text = convert.change_to_edit(SourceFile("", doc.text), change.range,
-                                                      change.text)
+            start, end, text = convert.change_to_edit(doc.text, change.range, change.text,
+                                                      ls.encoding)
             doc.replace(start, end, text)
         else:
             doc.set_text(change.text)
@@ -321,7 +330,8 @@ def pull_diagnostics(ls: ScriptcServer, params: lsp.DocumentDiagnosticParams):
         return lsp.RelatedFullDocumentDiagnosticReport(items=[])
     uri = params.text_document.uri
     return lsp.RelatedFullDocumentDiagnosticReport(
-        items=convert.diagnostics(convert.positions(snapshot), uri, snapshot.diagnostics),
+        items=convert.diagnostics(convert.positions(snapshot, ls.encoding), uri,
+                                  snapshot.diagnostics),
         result_id=f"{id(snapshot):x}",
     )
 
@@ -345,13 +355,13 @@ def _at(ls: ScriptcServer, params):
     snapshot = ls.snapshot(params.text_document.uri)
     if snapshot is None:
         return None, None, 0
-    p = convert.positions(snapshot)
+    p = convert.positions(snapshot, ls.encoding)
     return snapshot, p, p.offset(params.position)
 
 
 def _whole(ls: ScriptcServer, params):
     snapshot = ls.snapshot(params.text_document.uri)
-    return snapshot, (convert.positions(snapshot) if snapshot is not None else None)
+    return snapshot, (convert.positions(snapshot, ls.encoding) if snapshot is not None else None)
 
 
 @SERVER.feature(lsp.TEXT_DOCUMENT_HOVER)
@@ -478,7 +488,7 @@ def on_formatting(ls: ScriptcServer, params: lsp.DocumentFormattingParams):
     doc = ls.document(params.text_document.uri)
     if doc is None or not formatting.available():
         return None
-    p = convert.text_positions(SourceFile("", doc.text))
+    p = convert.text_positions(doc.text, ls.encoding)
     return convert.text_edit_list(p, formatting.format_document(doc.text))
 
 
@@ -487,7 +497,7 @@ def on_range_formatting(ls: ScriptcServer, params: lsp.DocumentRangeFormattingPa
     doc = ls.document(params.text_document.uri)
     if doc is None or not formatting.available():
         return None
-    p = convert.text_positions(SourceFile("", doc.text))
+    p = convert.text_positions(doc.text, ls.encoding)
     span = p.span(params.range)
     return convert.text_edits(p, formatting.format_range(doc.text, span.start, span.end))
 
