@@ -70,6 +70,14 @@ def test_byte_order_mark_is_skipped() -> None:
     ("[1 2]", "expected `,` or `]` after an array element, found `2`", 1, 4),
     ('{"a": 1]', "expected `,` or `}` after an object member, found `]`", 1, 8),
     ("[\n  1,\n  2", "the file ends inside an array", 3, 4),
+    ("[1e999]", "the number `1e999` is too large: numbers must be finite and within ±1.8e+308 "
+     "(a double)", 1, 2),
+    ("[-1e400]", "the number `-1e400` is too large: numbers must be finite and within "
+     "±1.8e+308 (a double)", 1, 2),
+    ("{\n \"a\": " + "9" * 5000 + "}", "the number `9999999999...999999` (5000 digits) is too "
+     "large: numbers must be finite and within ±1.8e+308 (a double)", 2, 7),
+    ("[" + "9" * 309 + ".0]", "the number `9999999999...9999.0` (310 digits) is too large: "
+     "numbers must be finite and within ±1.8e+308 (a double)", 1, 2),
     ("// c\n{}", "JSON has no comments", 1, 1),
     ('{"a": 1 /* c */}', "JSON has no comments", 1, 9),
 ])
@@ -102,6 +110,16 @@ def test_deep_nesting_does_not_recurse() -> None:
     assert value == []
     root = parse_json('{"a":' * depth + "1" + "}" * depth)
     assert root.to_python() is not None
+
+
+def test_a_reader_may_bound_the_depth() -> None:
+    assert parse_json("[[1], {\"a\": 2}, []]", max_depth=2).to_python() == [[1], {"a": 2}, []]
+    with pytest.raises(JsonError) as caught:
+        parse_json('{"a": [[1]]}', max_depth=2)
+    assert caught.value.message == "arrays and objects nested more than 2 levels deep"
+    assert caught.value.span == Span(7, 8)
+    with pytest.raises(JsonError, match="more than 100 levels"):
+        parse_json("[" * 200_000 + "]" * 200_000, max_depth=100)
 
 
 def test_deep_nesting_error_is_reported() -> None:
@@ -148,9 +166,10 @@ def test_never_crashes(text: str) -> None:
     except JsonError:
         got = JsonError
     if expected is JsonError or got is JsonError:
-        # json accepts duplicate keys, which this parser refuses on purpose.
+        # json accepts duplicate keys and numbers too large for a double (`1e999` is
+        # infinity), which this parser refuses on purpose.
         if got is JsonError and expected is not JsonError:
-            with pytest.raises(JsonError, match="duplicate key"):
+            with pytest.raises(JsonError, match="duplicate key|too large"):
                 parse_json(text)
         else:
             assert got is expected

@@ -13,7 +13,11 @@ Choices beyond RFC 8259, each for a reason:
 - `NaN`, `Infinity` and `-Infinity` are errors with a message of their own (Python writes them);
 - a `\\u` escape of half a surrogate pair is an error (the text could not be written as UTF-8);
 - a leading byte order mark is skipped (some Windows editors write one; it is an encoding mark,
-  not part of the document).
+  not part of the document);
+- numbers follow scriptc's number policy (`scriptc.numbers`): a number too large for a double
+  (`1e999`, an integer of thousands of digits) is an error at its text, like `NaN`;
+- a reader may bound the nesting depth (`max_depth`), for values that go on to code that
+  recurses.
 """
 
 from __future__ import annotations
@@ -21,6 +25,7 @@ from __future__ import annotations
 import re
 
 from scriptc.gcpause import gc_paused
+from scriptc.numbers import NumberError, json_number
 from scriptc.source import SourceFile, Span
 
 __all__ = ["JsonNode", "Member", "JsonError", "parse_json", "string_offsets"]
@@ -258,6 +263,16 @@ def string_offsets(text: str, node: JsonNode) -> list[int]:
     return offsets
 
 
+def _number(text: str, raw: str, start: int, is_integer: bool) -> int | float:
+    """The value of the number `raw` at `start`, under scriptc's number policy
+    (`scriptc.numbers`: finite, within a double's range, however many digits it is written
+    with)."""
+    try:
+        return json_number(raw, is_integer)
+    except NumberError as error:
+        raise JsonError(error.message, Span(start, start + len(raw)), text) from None
+
+
 def _scalar(text: str, pos: int) -> tuple[JsonNode, int]:
     """The scalar value starting at `pos` (not `{` or `[`)."""
     n = len(text)
@@ -284,7 +299,7 @@ def _scalar(text: str, pos: int) -> tuple[JsonNode, int]:
             raise JsonError(f"invalid number `{bad}`{hint}", Span(pos, loose_end), text)
         raw = m.group()
         end = m.end()
-        value: object = float(raw) if m.group(1) or m.group(2) else int(raw)
+        value = _number(text, raw, pos, not (m.group(1) or m.group(2)))
         return JsonNode("number", pos, end, value, raw), end
     w = _WORD.match(text, pos)
     if w is not None:
@@ -332,15 +347,17 @@ _LITERALS = {"true": ("boolean", True), "false": ("boolean", False), "null": ("n
 _VALUE, _AFTER, _KEY = 0, 1, 2
 
 
-def parse_json(text: str) -> JsonNode:
-    """Parse `text` (one JSON value, whitespace around it allowed). Raises `JsonError`."""
+def parse_json(text: str, max_depth: int | None = None) -> JsonNode:
+    """Parse `text` (one JSON value, whitespace around it allowed). Raises `JsonError`.
+    With `max_depth`, arrays and objects nested deeper than that are an error at the bracket
+    that opens one level too many (for readers whose values go on to code that recurses)."""
     # The tree has no reference cycles: pausing the cyclic collector while it grows skips
     # rescans that nearly doubled the time of a large file (see scriptc.gcpause).
     with gc_paused():
-        return _parse(text)
+        return _parse(text, max_depth)
 
 
-def _parse(text: str) -> JsonNode:
+def _parse(text: str, max_depth: int | None) -> JsonNode:
     n = len(text)
     pos = 1 if text.startswith("\ufeff") else 0
     # Open containers, innermost last; for each, the keys seen so far (objects: for duplicate
@@ -367,7 +384,10 @@ def _parse(text: str) -> JsonNode:
                     pos = end
                 elif g == 5:
                     raw = m.group(5)
-                    value: object = float(raw) if m.group(6) or m.group(7) else int(raw)
+                    if len(raw) < 16 and not (m.group(6) or m.group(7)):
+                        value: object = int(raw)  # the common case, within any policy
+                    else:
+                        value = _number(text, raw, m.start(5), not (m.group(6) or m.group(7)))
                     done = JsonNode("number", m.start(5), m.end(), value, raw)
                     pos = m.end()
                 elif g == 8:
@@ -375,6 +395,9 @@ def _parse(text: str) -> JsonNode:
                     done = JsonNode(kind, m.start(8), m.end(), value)
                     pos = m.end()
                 elif g == 1:
+                    if max_depth is not None and len(stack) >= max_depth:
+                        raise JsonError(f"arrays and objects nested more than {max_depth} "
+                                        "levels deep", Span(m.start(1), m.end()), text)
                     opener = m.group(1)
                     kind = "object" if opener == "{" else "array"
                     node = JsonNode(kind, m.start(1), m.end())
