@@ -69,8 +69,9 @@ def test_builder_prints_the_canonical_script_text():
         "[goal:dance]\n"
         "  [action]\n"
         '    [b#start#blk_inst: MV("0.2, 0, 0, 0, 1000") LD("0, 0, 1, 1, 0, 1000") AO()]\n'
-        "    [b##blk_jump: CND({CLASS #Human U ?kid (?THIS>&positionrho OP< 1.0)} ! {TRUE}) "
-        "TRJMP(start) FLSJMP()]\n"
+        # wider than the line: wrapped as the formatter wraps it
+        "    [b##blk_jump: CND({CLASS #Human U ?kid (?THIS>&positionrho OP< 1.0)} ! {TRUE})\n"
+        "                  TRJMP(start) FLSJMP()]\n"
         "    [b##blk_terminus]\n"
     )
 
@@ -353,3 +354,58 @@ def test_fill_takes_reserved_names_from_the_mapping():
     assert built.ok and built.source.path == "gen.script"
     assert json.loads(built.json())["goal0"]["act0"]["blk0"]["audioout"][0]["track_path"] == \
         "songs/x.wav"
+
+
+# ---------------------------------------------------------------------------------------------
+# the printed script is in the formatter's layout
+
+
+def _condition_texts():
+    from hypothesis import strategies as st
+
+    from scriptc.emit.condition import condition_text
+    from test_emit_script import CONDITION
+
+    # The canonical text with its blanks widened (spaces, tabs, line breaks) as a caller may
+    # write it: blanks are never removed, which could join two tokens, and strings are kept.
+    def widen(text: str, rnd) -> str:
+        return re.sub(r'"(?:\\.|[^"\\])*"| ', lambda m: m.group() if m.group() != " " else
+                      rnd.choice([" ", "  ", "\t", "\n    "]), text)
+
+    return st.builds(widen, CONDITION.map(condition_text), st.randoms(use_true_random=False))
+
+
+@pytest.mark.parametrize("make", [dance, broken])
+def test_the_built_text_is_already_formatted(make) -> None:
+    from scriptc.fmt import format_text
+
+    text = make().build().script_text
+    assert format_text(text).text == text
+
+
+def test_generated_conditions_are_printed_in_the_formatters_layout() -> None:
+    from hypothesis import HealthCheck, given, settings
+
+    from scriptc.fmt import format_text
+
+    @settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+    @given(_condition_texts())
+    def law(condition: str) -> None:
+        act = Activity("gen")
+        a = act.goal("g").action()
+        a.instruction(leds=[led(0, 0, 1, duration=1000)], label="here")
+        a.jump(condition, true="here", label="long_enough_to_wrap_now_and_then")
+        text = act.script_text()
+        assert format_text(text).text == text
+        # Only blanks changed: the caller's tokens are all there, in order.
+        assert "".join(text.split()).count("".join(condition.split())) == 1
+
+    law()
+
+
+def test_a_condition_that_is_not_made_of_tokens_is_printed_as_written() -> None:
+    act = Activity("raw")
+    act.goal("g").action().jump("{CLASS #Human U ?kid (?THIS>&positionrho < 1.0)} ! {TRUE}")
+    built = act.build()
+    assert "CND({CLASS #Human U ?kid (?THIS>&positionrho < 1.0)} ! {TRUE})" in built.script_text
+    assert "P001" in built.codes

@@ -14,6 +14,7 @@ from hypothesis import strategies as st
 from scriptc.diagnostics.model import Severity
 from scriptc.emit.json import emit_json
 from scriptc.emit.script import format_block, format_script
+from scriptc.fmt import format_text
 from scriptc.ir import nodes as ir
 from scriptc.ir.from_json import _validator, script_from_json
 from scriptc.ir.lower import lower_script
@@ -63,11 +64,21 @@ def test_format_of_listing_4_1() -> None:
         "[goal:test_act_goal]",
         "  [action]",
     ]
-    assert lines[5].startswith('    [b#g0_a0_b0#blk_inst: MV("10, 0, 0, 1000, 1000", "0, 10, 0, 1000, 1000", ')
-    assert lines[5].endswith(') AO("Silence, 1, 1")]')
-    assert lines[6:] == [
-        '    [b##blk_inst: MV("0, 0, 0, 1000, 1000") LD("1, 1, 1, 1, 1000, 1000") '
-        'AO("plugins/audio_control/songs/sounds_Excited_R2D2.wav, 0, 4000")]',
+    # Wider than the line: wrapped as the formatter wraps it, one command per line.
+    assert lines[5:12] == [
+        '    [b#g0_a0_b0#blk_inst: MV("10, 0, 0, 1000, 1000",',
+        '                             "0, 10, 0, 1000, 1000",',
+        '                             "0, -10, 0, 1000, 1000",',
+        '                             "-10, 0, 0, 1000, 1000",',
+        '                             "0, 0, 50, 1000, 1000",',
+        '                             "0, 0, -50, 1000, 1000")',
+        '                          LD("1, 0, 0, 1, 0, 2000",',
+    ]
+    assert lines[17:] == [
+        '                          AO("Silence, 1, 1")]',
+        '    [b##blk_inst: MV("0, 0, 0, 1000, 1000")',
+        '                  LD("1, 1, 1, 1, 1000, 1000")',
+        '                  AO("plugins/audio_control/songs/sounds_Excited_R2D2.wav, 0, 4000")]',
         "    [b##blk_jump: CND(! {TRUE}) TRJMP(g0_a0_b4) FLSJMP()]",
         "    [b##blk_jump: CND(! {TRUE}) TRJMP(g0_a0_b0) FLSJMP()]",
         "    [b#g0_a0_b4#blk_terminus]",
@@ -224,3 +235,28 @@ def test_json_round_trip(script: ir.Script) -> None:
     assert back is not None and not diagnostics, diagnostics
     assert emit_json(back) == out
     assert emit_json(lower(format_script(back))) == out
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(scripts())
+def test_printed_and_decompiled_scripts_are_already_formatted(script: ir.Script) -> None:
+    """One layout: the printer's text of any IR, and of the script read back from its JSON
+    (what `scriptc decompile` writes), is a fixpoint of the formatter."""
+    text = format_script(script)
+    assert format_text(text).text == text
+    back, _ = script_from_json(SourceFile("gen.json", emit_json(script)))
+    decompiled = format_script(back)
+    assert format_text(decompiled).text == decompiled
+
+
+@pytest.mark.parametrize("name", THESIS_FILES)
+def test_decompiled_thesis_files_pass_fmt_check(name: str, tmp_path: Path) -> None:
+    from click.testing import CliRunner
+
+    from scriptc.cli.main import cli
+
+    out = tmp_path / "out.script"
+    runner = CliRunner()
+    assert runner.invoke(cli, ["decompile", str(DATA / name), "-o", str(out)]).exit_code in (0, 1)
+    checked = runner.invoke(cli, ["fmt", "--check", str(out)])
+    assert (checked.exit_code, checked.output) == (0, "")

@@ -217,9 +217,10 @@ def test_examples_in_docs_are_formatted() -> None:
 def test_a_formatter_bug_raises_instead_of_changing_meaning(monkeypatch) -> None:
     """The self-check: with spacing broken on purpose (`U F:` glued into `UF:`), the output
     would mean something else, so format_text raises rather than return it."""
+    import scriptc.emit.layout as layout
     import scriptc.fmt as fmt
 
-    monkeypatch.setattr(fmt, "_space", lambda *args: "")
+    monkeypatch.setattr(layout, "_space", lambda *args: "")
     text = "[a]\n[goal:g]\n[action]\n[b##blk_jump: CND({VAR @v U F: now()} !) TRJMP() FLSJMP()]\n"
     with pytest.raises(fmt.FormatterError):
         format_text(text)

@@ -64,8 +64,9 @@ def test_folders_recurse_over_scripts(tree: Path) -> None:
 def test_check_lists_and_writes_nothing(tree: Path) -> None:
     result = run("fmt", "--check", ".")
     assert result.exit_code == 1
-    assert result.stdout.splitlines() == [f"would reformat {os.path.join('.', 'messy.script')}",
-                                          f"would reformat {os.path.join('.', 'sub', 'deep.script')}"]
+    # Named as every output names files: relative to the working folder, without `./`.
+    assert result.stdout.splitlines() == ["would reformat messy.script",
+                                          f"would reformat {os.path.join('sub', 'deep.script')}"]
     assert (tree / "messy.script").read_text(encoding="utf-8") == MESSY
     assert run("fmt", "--check", "tidy.script").exit_code == 0
 
@@ -161,9 +162,9 @@ def test_real_process_pipes_bytes(tmp_path: Path) -> None:
 
 
 def test_a_formatter_bug_writes_nothing(tree: Path, monkeypatch) -> None:
-    import scriptc.fmt as fmt
+    import scriptc.emit.layout as layout
 
-    monkeypatch.setattr(fmt, "_space", lambda *args: "")
+    monkeypatch.setattr(layout, "_space", lambda *args: "")
     text = "[a]\n[goal:g]\n[action]\n[b##blk_jump: CND({VAR @v U F: now()} !) TRJMP() FLSJMP()]\n"
     (tree / "x.script").write_text(text, encoding="utf-8")
     result = CliRunner().invoke(cli, ["fmt", "x.script"])

@@ -18,8 +18,10 @@ gives the same diagnostics as `scriptc lint` and the validated JSON or bytecode:
 How: the builder makes IR nodes with placeholder spans, prints them with the canonical printer
 (`scriptc.emit.script`), and analyses the printed text with `scriptc.driver.analyze_script`.
 So the diagnostics are exactly the CLI's on `Built.script_text`, and their positions point
-into that text. A condition is given as text and spliced into the printed jump block as it
-was written.
+into that text. A condition is given as text and printed into its jump block token for token,
+only its blanks laid out as the formatter lays them out (text that is not made of the
+language's tokens is printed exactly as written), so an error in it points at what the caller
+wrote. The printed script is in the formatter's layout: `scriptc fmt --check` passes it.
 
 Templates: `fill(template, **params)` replaces `${name}` placeholders (`$$` is a literal `$`);
 inside a string literal the value is escaped as the language requires.
@@ -159,14 +161,13 @@ def audio(track_path: str, *, wait: Numeric = 0, duration: Numeric) -> ir.AudioC
 # ---------------------------------------------------------------------------------------------
 # The builder
 
-# The printer needs a Condition; the user's condition text replaces this one's printed form.
+# The printer needs a Condition; the condition text the caller wrote is printed instead.
 _PLACEHOLDER_CONDITION = ir.Condition((), (), _NOWHERE, bare_true=True)
-_PLACEHOLDER_CND = "CND({TRUE})"
 
 
 @dataclass
 class _Jump:
-    """A jump block whose condition is text (printed verbatim into `CND(...)`)."""
+    """A jump block whose condition is text (printed into `CND(...)` token for token)."""
 
     label: str | None
     condition: str
@@ -202,7 +203,8 @@ class Action:
 
     def jump(self, condition: str, *, true: str | None = None, false: str | None = None,
              label: str | None = None) -> Action:
-        """A jump block: `condition` in the rule grammar (e.g. `"! {TRUE}"`), written as is;
+        """A jump block: `condition` in the rule grammar (e.g. `"! {TRUE}"`), written token for
+        token (its blanks laid out as the formatter does);
         `true`/`false` are the labels to jump to (None: continue with the next block)."""
         if not isinstance(condition, str):
             raise ValueError(f"the condition must be a string, not {type(condition).__name__}")
@@ -275,30 +277,32 @@ class Activity:
 
     def to_ir(self) -> ir.Script:
         """The activity as IR (placeholder spans; each jump's condition is `{TRUE}` here, the
-        text given to `jump` is spliced in by `script_text`)."""
+        text given to `jump` is printed by `script_text`)."""
+        return self._ir({})
+
+    def _ir(self, conditions: dict[int, str]) -> ir.Script:
+        """The IR, recording in `conditions` the caller's condition text of each jump block
+        (by the block's identity)."""
+        def block(b: ir.Block | _Jump) -> ir.Block:
+            if not isinstance(b, _Jump):
+                return b
+            jump = b.block()
+            conditions[id(jump)] = b.condition
+            return jump
+
         goals = tuple(
-            ir.Goal(goal.id, tuple(ir.Action(tuple(b.block() if isinstance(b, _Jump) else b
-                                                   for b in action._blocks), _NOWHERE)
+            ir.Goal(goal.id, tuple(ir.Action(tuple(block(b) for b in action._blocks), _NOWHERE)
                                    for action in goal._actions), _NOWHERE)
             for goal in self._goals)
         return ir.Script(self.name, tuple(self._alfa), tuple(self._omega), goals, _NOWHERE)
 
     def script_text(self) -> str:
-        """The canonical script text of the activity (what `build` analyses): the printer's
-        text of `to_ir()`, with each jump's condition text in place of the placeholder."""
-        lines = format_script(self.to_ir()).split("\n")
-        # One line per item (names and strings hold no line break): the header, the messages,
-        # then each goal, each action and each block in order.
-        i = 1 + len(self._alfa) + len(self._omega)
-        for goal in self._goals:
-            i += 1
-            for action in goal._actions:
-                i += 1
-                for b in action._blocks:
-                    if isinstance(b, _Jump):
-                        lines[i] = lines[i].replace(_PLACEHOLDER_CND, f"CND({b.condition})", 1)
-                    i += 1
-        return "\n".join(lines)
+        """The canonical script text of the activity (what `build` analyses): the canonical
+        printer's text of the activity, each jump's condition the text given to `jump`, laid
+        out as the formatter lays it out (only its blanks can change)."""
+        conditions: dict[int, str] = {}
+        script = self._ir(conditions)
+        return format_script(script, lambda jump: conditions[id(jump)])
 
     def build(self, path: str | None = None, *, functions: FunctionRegistry = STANDARD,
               profile: Profile | None = None) -> Built:

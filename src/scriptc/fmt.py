@@ -6,15 +6,13 @@ byte of it can be lost. `format_range(text, start, end)` returns text edits that
 the items overlapping a range (for an editor's "format selection"); it works in a file with
 syntax errors elsewhere, and leaves alone every part of the file that holds one.
 
-The layout is the canonical printer's (`scriptc.emit.script`): one item per line, `[action]`
-indented two spaces, blocks four, the spacing of `[alfa:0, kick_starter, "", "", C, U]`, the
-`toparse` spacing of conditions (`scriptc.emit.condition`) and `"0, 0, 1, 1, 0, 100"` inside
-command strings. Unlike the printer, the formatter works on the text's tokens, not on the IR,
-so it keeps what the IR forgets: comments, blank lines (at most one in a row), the file's line
-endings and the exact text of every number, name and string. An item wider than
-`LINE_WIDTH` columns is wrapped (instruction blocks one track per line, then one command per
-line; jump blocks `TRJMP` on a line of its own, then one condition part per line).
-docs/editors.md ("Formatting") lists every decision.
+The layout of each item (its spacing, where a long item wraps, its indentation) is the
+shared canonical layout, `scriptc.emit.layout`, which the IR printer (`scriptc.emit.script`:
+`scriptc decompile`, the Python API) uses too, so what they print is already formatted. The
+formatter works on the text's tokens, not on the IR, so it keeps what the IR forgets: comments,
+blank lines (at most one in a row), the file's line endings and the exact text of every number,
+name and string; it normalizes only the blanks inside command strings (`"0,0,1,1,0,100"`
+becomes `"0, 0, 1, 1, 0, 100"`). docs/editors.md ("Formatting") lists every decision.
 
 How it stays safe: the layout is a function of the tokens alone (so formatting twice changes
 nothing); each item it changes is parsed again and compared with the original parse, and the
@@ -30,6 +28,17 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from scriptc.diagnostics.model import Diagnostic
+from scriptc.emit.layout import (
+    ACTION_INDENT,
+    BLOCK_INDENT,
+    INSTRUCTION,
+    LINE_WIDTH,
+    LayoutError,
+    Tok,
+    command_text,
+    lay_out,
+    tokens,
+)
 from scriptc.source import Span
 from scriptc.syntax.parser import ParsedItem, parse_items
 from scriptc.syntax.scan import scan
@@ -41,36 +50,7 @@ Tree = Any  # noqa: N816 - a name for documentation only
 
 __all__ = ["FormatResult", "FormatterError", "LINE_WIDTH", "format_text", "format_range"]
 
-# Items wider than this (in code points, indentation included) are wrapped.
-LINE_WIDTH = 100
-
-ACTION_INDENT = "  "
-BLOCK_INDENT = "    "
-
 _BREAK = re.compile(r"\r\n|\r|\n")
-
-# The tokens of an item that parsed. The patterns are the grammar's own (grammar/*.lark) and
-# the scanner's (strings and comments); `#` is a token of its own, so `#Human` is `#` `Human`
-# (the formatter never puts a space after `#`, so the text is the same).
-_TOKEN = re.compile(
-    r"""
-     (?P<ws>\s+)
-    |(?P<str>"(?:\\[^\n\r]|[^"\\\n\r])*")
-    |(?P<comment>%[^%]*%)
-    |(?P<op>OP[=<>])
-    |(?P<access>>[&$])
-    |(?P<alias>\?[A-Za-z_][A-Za-z0-9_-]*)
-    |(?P<var>@[A-Za-z_][A-Za-z0-9_-]*)
-    |(?P<att>\$[A-Za-z_][A-Za-z0-9_-]*)
-    |(?P<num>[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?)
-    |(?P<name>[A-Za-z_][A-Za-z0-9_-]*)
-    |(?P<punct>[\[\](){},:#!])
-    """,
-    re.VERBOSE,
-)
-_OPENERS = frozenset("([{")
-_CLOSERS = frozenset(")]}")
-
 
 class FormatterError(RuntimeError):
     """The formatter produced text that does not parse to the same items and comments: a bug
@@ -345,202 +325,7 @@ def _minimal_edit(start: int, old: str, new: str) -> tuple[int, int, str]:
 
 
 # ---------------------------------------------------------------------------------------------
-# One item: its tokens, the spaces between them, and where a long item may break.
-
-
-@dataclass(slots=True)
-class _Tok:
-    kind: str
-    text: str
-
-    def is_(self, punct: str) -> bool:
-        return self.kind == "punct" and self.text == punct
-
-
-def _tokens(item_text: str) -> list[_Tok]:
-    toks = []
-    pos = 0
-    n = len(item_text)
-    while pos < n:
-        m = _TOKEN.match(item_text, pos)
-        if m is None:
-            raise FormatterError(f"cannot read the item {item_text[:60]!r} at {pos}")
-        kind = m.lastgroup
-        if kind != "ws":
-            value = m.group()
-            if kind == "alias" and value == "?THIS":
-                kind = "this"
-            toks.append(_Tok(kind, value))
-        pos = m.end()
-    return toks
-
-
-def _space(prev: _Tok, tok: _Tok, before_prev: _Tok | None, prev_position: int) -> str:
-    """The space between two tokens of an item (neither a comment): the canonical printer's
-    spacing (`[alfa:0, x, ...]`, `[b#l#blk_inst: MV("...") LD() AO()]`, the `toparse` text of
-    conditions)."""
-    if tok.kind == "punct" and (tok.text in _CLOSERS or tok.text in ",:"):
-        return ""
-    if prev.kind == "punct":
-        if prev.text in _OPENERS:
-            return ""
-        if prev.text == ",":
-            return " "
-        if prev.text == ":":
-            # `[alfa:16`, `[goal:g]` (the third token of the item) but `blk_inst: MV`, `E: gt`
-            return "" if prev_position == 2 else " "
-        if prev.text == "#":
-            return ""
-    if tok.is_("#"):
-        # `{CLASS #Human`, but `[b#label#blk_inst`
-        if prev.kind == "name" and prev.text == "CLASS" and before_prev is not None \
-                and before_prev.is_("{"):
-            return " "
-        return ""
-    if prev.kind == "access" or tok.kind == "access":
-        return ""  # `?kid>&positionrho`, `?kid>$mood`
-    if tok.is_("("):
-        # `MV(`, `CND(`, `gt(` hug their parenthesis; a CLASS assignment's tests do not:
-        # `{CLASS #Human U ?kid (?THIS>&positionrho OP< 1.5)}`
-        return " " if prev.kind == "alias" else ""
-    return " "
-
-
-def _separators(toks: list[_Tok]) -> list[str]:
-    """seps[i] is what is written before toks[i]."""
-    seps = [""] * len(toks)
-    last: _Tok | None = None  # the previous token that is not a comment
-    before_last: _Tok | None = None
-    position = -1  # the position of `last` among the tokens that are not comments
-    for i, tok in enumerate(toks):
-        prev = toks[i - 1] if i else None
-        if prev is None:
-            pass
-        elif tok.kind == "comment":
-            seps[i] = "" if prev.kind == "punct" and prev.text in _OPENERS else " "
-        elif prev.kind == "comment":
-            seps[i] = "" if tok.kind == "punct" and (tok.text in _CLOSERS or tok.text in ",:") \
-                else " "
-        else:
-            seps[i] = _space(prev, tok, before_last, position)
-        if tok.kind != "comment":
-            before_last, last = last, tok
-            position += 1
-    return seps
-
-
-# Break points: token index -> (level, anchor). A break replaces the space before the token
-# with a line break and spaces up to the anchor's column; the anchor is ("start", j) (where
-# token j starts) or ("end", j) (where it ends). Level 1 breaks are taken together when the
-# item does not fit on one line; level 2 breaks only on a line that still does not fit.
-_Breaks = dict[int, tuple[int, tuple[str, int]]]
-
-
-def _code_indices(toks: list[_Tok]) -> list[int]:
-    return [i for i, t in enumerate(toks) if t.kind != "comment"]
-
-
-def _break_points(body: str, toks: list[_Tok]) -> _Breaks:
-    code = _code_indices(toks)
-    breaks: _Breaks = {}
-    # The body starts after `[ b # [label] # kind`: find the `:` after the kind word.
-    colon = next((j for j, i in enumerate(code) if toks[i].is_(":")), None)
-    if colon is None:
-        return breaks
-    rest = code[colon + 1 :]
-    if body == "inst_body":
-        first_track: int | None = None
-        depth = 0
-        open_paren = -1
-        for j, i in enumerate(rest):
-            tok = toks[i]
-            if depth == 0 and tok.kind == "name":
-                if first_track is None:
-                    first_track = i
-                else:
-                    breaks[i] = (1, ("start", first_track))
-            elif tok.is_("("):
-                depth += 1
-                open_paren = i
-            elif tok.is_(")"):
-                depth -= 1
-            elif tok.is_(",") and depth == 1 and j + 1 < len(rest):
-                breaks[rest[j + 1]] = (2, ("end", open_paren))
-    elif body == "jump_body":
-        cnd = rest[0] if rest else None
-        depth = 0
-        braces = 0
-        open_paren = -1
-        first_part = True
-        after_bang = False
-        for i in rest:
-            tok = toks[i]
-            if tok.is_("("):
-                depth += 1
-                if depth == 1:
-                    open_paren = i
-                    first_part = True
-                continue
-            if tok.is_(")"):
-                depth -= 1
-                continue
-            if depth == 0 and tok.kind == "name" and tok.text == "TRJMP" and cnd is not None:
-                breaks[i] = (1, ("start", cnd))
-            if depth == 1 and braces == 0 and (tok.is_("{") or tok.is_("!")):
-                if not first_part and not (tok.is_("{") and after_bang):
-                    breaks[i] = (2, ("end", open_paren))
-                first_part = False
-                after_bang = tok.is_("!")
-            elif depth == 1 and braces == 0:
-                after_bang = False
-            if tok.is_("{"):
-                braces += 1
-            elif tok.is_("}"):
-                braces -= 1
-                after_bang = False
-    elif body == "sensor_body":
-        first = rest[0] if rest else None
-        for j, i in enumerate(rest):
-            if toks[i].is_(",") and j + 1 < len(rest) and first is not None:
-                breaks[rest[j + 1]] = (1, ("start", first))
-    return breaks
-
-
-def _render(toks: list[_Tok], seps: list[str], breaks: _Breaks, taken: set[int], column: int,
-            nl: str) -> tuple[str, list[tuple[int, int, int]]]:
-    """The item's text with the `taken` breaks, and its lines as (first token, last token,
-    widest physical line) for deciding where else to break."""
-    starts: list[int] = [0] * len(toks)
-    ends: list[int] = [0] * len(toks)
-    out: list[str] = []
-    lines: list[tuple[int, int, int]] = []
-    line_first = 0
-    widest = column
-    col = column
-    for i, tok in enumerate(toks):
-        if i in taken:
-            lines.append((line_first, i - 1, widest))
-            kind, j = breaks[i][1]
-            indent = starts[j] if kind == "start" else ends[j]
-            out.append(nl + " " * indent)
-            col = widest = indent
-            line_first = i
-        else:
-            out.append(seps[i])
-            col += len(seps[i])
-        starts[i] = col
-        piece = tok.text
-        out.append(piece)
-        if "\n" in piece or "\r" in piece:  # a comment of several lines
-            physical = _BREAK.split(piece)
-            widest = max(widest, col + len(physical[0]), *(len(p) for p in physical[1:-1]))
-            col = len(physical[-1])
-        else:
-            col += len(piece)
-        ends[i] = col
-        widest = max(widest, col)
-    lines.append((line_first, len(toks) - 1, widest))
-    return "".join(out), lines
+# One item: its tokens as written (command strings normalized), laid out by the shared layout.
 
 
 def _normalize_command(track: str, literal: str) -> str:
@@ -557,7 +342,7 @@ def _normalize_command(track: str, literal: str) -> str:
         fields = [p.strip() for p in parts]
         if not all(fields):
             return literal
-        return '"' + ", ".join(fields) + '"'
+        return command_text(fields)
     if track != "AO" or len(parts) < 3 or "\\" in parts[-1] or "\\" in parts[-2]:
         return literal
     wait_t, duration = parts[-2].strip(), parts[-1].strip()
@@ -575,14 +360,14 @@ def _normalize_command(track: str, literal: str) -> str:
     path = raw[bounds[0][0] : bounds[-1][1]]
     if not path:
         return literal
-    return f'"{path}, {wait_t}, {duration}"'
+    return command_text((path, wait_t, duration))
 
 
-def _normalize_commands(toks: list[_Tok]) -> None:
+def _normalize_commands(toks: list[Tok]) -> None:
     """Canonical spacing inside the command strings of MV(...), LD(...), AO(...)."""
     track = None
     depth = 0
-    last: _Tok | None = None  # the previous token that is not a comment
+    last: Tok | None = None  # the previous token that is not a comment
     for tok in toks:
         if tok.kind != "comment":
             before, last = last, tok
@@ -607,25 +392,14 @@ def _body_kind(tree: Tree) -> str:
 
 def _render_item(text: str, item: ParsedItem, column: int, nl: str) -> str:
     """The canonical text of one item that starts at `column`; checked by parsing it again."""
-    toks = _tokens(text[item.span.start : item.span.end])
+    try:
+        toks = tokens(text[item.span.start : item.span.end])
+    except LayoutError as exc:
+        raise FormatterError(str(exc)) from None
     body = _body_kind(item.tree)
-    if body == "inst_body":
+    if body == INSTRUCTION:
         _normalize_commands(toks)
-    seps = _separators(toks)
-    breaks = _break_points(body, toks)
-    out, lines = _render(toks, seps, breaks, set(), column, nl)
-    if lines[0][2] > LINE_WIDTH and breaks:
-        taken = {i for i, (level, _) in breaks.items() if level == 1}
-        out, lines = _render(toks, seps, breaks, taken, column, nl)
-        more = {
-            i
-            for first, last, widest in lines
-            if widest > LINE_WIDTH
-            for i, (level, _) in breaks.items()
-            if level == 2 and first < i <= last
-        }
-        if more:
-            out, _ = _render(toks, seps, breaks, taken | more, column, nl)
+    out = lay_out(toks, body, column, nl)
     if out != text[item.span.start : item.span.end]:  # an unchanged item needs no check
         _verify_item(item, out)
     return out
