@@ -123,22 +123,6 @@ def _where(path: str) -> str:
     return f"`{path}`" if path else "the top-level value"
 
 
-def _node_at(root: JsonNode, steps) -> tuple[JsonNode, Member | None]:
-    """The node at a path of keys and indices, and the member that holds it (if a key)."""
-    node, member = root, None
-    for step in steps:
-        if node.kind == "object":
-            member = next((m for m in node.members if m.key == step), None)
-            if member is None:
-                break
-            node = member.value
-        elif node.kind == "array" and isinstance(step, int) and step < len(node.items):
-            node, member = node.items[step], None
-        else:
-            break
-    return node, member
-
-
 _KIND_PHRASE = {"object": "an object", "array": "an array", "string": "a string",
                 "integer": "an integer", "number": "a number", "boolean": "a boolean",
                 "null": "`null`"}
@@ -236,7 +220,7 @@ def _schema_problems(root: JsonNode, source_text: str) -> list[Diagnostic]:
     for error in _validator().iter_errors(instance):
         steps = list(error.absolute_path)
         path = _join(steps)
-        node, member = _node_at(root, steps)
+        node, member = root.locate(steps)
         validator = error.validator
         if validator == "required":
             if path in done_required:

@@ -32,6 +32,7 @@ _EXPORTS = {
     "Trace": "scriptc.runtime.trace",
     "load_scenario": "scriptc.runtime.scenario",
     "scenario_from_data": "scriptc.runtime.scenario",
+    "scenario_from_text": "scriptc.runtime.scenario",
     "ScenarioError": "scriptc.runtime.scenario",
     "Implementations": "scriptc.runtime.functions",
     "STANDARD_IMPLEMENTATIONS": "scriptc.runtime.functions",

@@ -11,35 +11,56 @@ A scenario is JSON (`schemas/scenario.schema.json`):
 
 `updates` are MapUpdate messages as the thesis's Wizard-of-Oz sensors would send them (thesis
 4.5, tables 4.1/4.2); `jsonmsg` is the message's text or the JSON value itself. `operator` are
-the joystick's events (thesis 5.3). A file is read whole and checked before the run starts:
-the shape by the JSON Schema (jsonschema is imported only here, only when a scenario is
-given), then every update against the map's tables. Every problem is reported at once, with
-the file and where in it (`updates[2].policy`).
+the joystick's events (thesis 5.3). A file is read whole and checked before the run starts,
+as every JSON file of scriptc is read: `scriptc.syntax.jsonpos` (strict JSON, the number policy
+of `scriptc.numbers`, at most MAX_DEPTH levels deep), then the shape and the declared ranges by
+the JSON Schema (jsonschema is imported only here, only when a scenario is given), then every
+update against the map's tables. Every problem is reported at once, each with its line and
+column in the file and where in the document (`updates[2].policy`); an unknown key says which
+known key it is close to. A `jsonmsg` given as text is pointed into, escapes and all.
 """
 
 from __future__ import annotations
 
+import difflib
 import json
 import os
 from dataclasses import dataclass, field
 from functools import cache
 from typing import Any
 
-from scriptc.runtime.world import MapUpdate, UpdateError, parse_update
+from scriptc.runtime.world import JSONMSG_DEPTH, MapUpdate, UpdateError, parse_update
+from scriptc.source import SourceFile, Span
+from scriptc.syntax.jsonpos import JsonError, JsonNode, Member, parse_json, string_offsets
 
 SCHEMA_NAME = "scenario.schema.json"
 
 
-class ScenarioError(Exception):
-    """A scenario file that cannot be used: `problems` says each thing wrong."""
+# Scenario values nest a few levels; an `audioin` jsonmsg may nest more, and goes on to code
+# that recurses (jsonschema, the trace's JSON writer): the jsonmsg texts' bound holds for the
+# file too. Deeper is an error at its bracket.
+MAX_DEPTH = JSONMSG_DEPTH
 
-    def __init__(self, path: str, problems: list[str]) -> None:
+
+class ScenarioError(Exception):
+    """A scenario file that cannot be used: `problems` says each thing wrong (`where: what`),
+    `positions` where it is in the file: (line, column), 1-based, or None when the file could
+    not be read at all."""
+
+    def __init__(self, path: str, problems: list[str],
+                 positions: list[tuple[int, int] | None] | None = None) -> None:
         self.path = path
         self.problems = problems
+        self.positions = positions if positions is not None else [None] * len(problems)
         super().__init__(f"scenario `{path}`: " + "; ".join(problems))
 
     def lines(self) -> list[str]:
-        return [f"scenario `{self.path}`: {p}" for p in self.problems]
+        """One line per problem: `scenario FILE:LINE:COLUMN: where: what`."""
+        out = []
+        for problem, position in zip(self.problems, self.positions):
+            at = f":{position[0]}:{position[1]}" if position is not None else ""
+            out.append(f"scenario {self.path}{at}: {problem}")
+        return out
 
 
 @dataclass(frozen=True, slots=True)
@@ -70,13 +91,17 @@ class Scenario:
 
 
 @cache
+def _schema() -> dict:
+    from scriptc.resources import schema_path
+
+    return json.loads(schema_path(SCHEMA_NAME).read_text(encoding="utf-8"))
+
+
+@cache
 def _validator():
     import jsonschema
 
-    from scriptc.resources import schema_path
-
-    schema = json.loads(schema_path(SCHEMA_NAME).read_text(encoding="utf-8"))
-    return jsonschema.Draft202012Validator(schema)
+    return jsonschema.Draft202012Validator(_schema())
 
 
 def _where(steps) -> str:
@@ -86,26 +111,165 @@ def _where(steps) -> str:
     return out or "the top level"
 
 
-def scenario_from_data(data: Any, path: str = "<scenario>", folder: str | None = None) -> Scenario:
-    """A scenario from parsed JSON; raises ScenarioError listing every problem. `folder`
-    (default: the current directory) is where the scenario's paths are resolved from."""
-    errors = sorted(_validator().iter_errors(data), key=lambda e: list(map(str, e.absolute_path)))
-    if errors:
-        problems = []
-        for e in errors:
-            message = e.message
-            if e.validator == "false" or (e.validator is False):
-                message = "not allowed here"
-            problems.append(f"{_where(e.absolute_path)}: {message}")
-        raise ScenarioError(path, problems)
+class _Problems:
+    """The problems of one file, each with its position."""
+
+    def __init__(self, source: SourceFile) -> None:
+        self.source = source
+        self.messages: list[str] = []
+        self.positions: list[tuple[int, int] | None] = []
+        self._order: list[int] = []
+
+    def add(self, where: str, message: str, span: Span) -> None:
+        position = self.source.position(min(span.start, len(self.source.text)))
+        self.messages.append(f"{where}: {message}" if where else message)
+        self.positions.append((position.line, position.column))
+        self._order.append(span.start)
+
+    def raise_if_any(self) -> None:
+        if self.messages:
+            order = sorted(range(len(self.messages)), key=lambda i: self._order[i])
+            raise ScenarioError(self.source.path, [self.messages[i] for i in order],
+                                [self.positions[i] for i in order])
+
+
+def _shown(node: JsonNode, text: str) -> str:
+    if node.kind in ("object", "array"):
+        return f"an {node.kind}"
+    written = text[node.start:node.end]
+    return f"`{written[:37]}...`" if len(written) > 40 else f"`{written}`"
+
+
+_TYPE_PHRASE = {"object": "an object", "array": "an array", "string": "a string",
+                "integer": "a whole number", "number": "a number", "boolean": "`true` or `false`",
+                "null": "`null`"}
+
+
+def _schema_problems(root: JsonNode, problems: _Problems) -> None:
+    """The JSON Schema's findings, in words, at the value (or the key) they are about."""
+    text = problems.source.text
+    forbidden_seen: set[tuple[int, str]] = set()
+    errors = sorted(_validator().iter_errors(root.to_python()),
+                    key=lambda e: list(map(str, e.absolute_path)))
+    for error in errors:
+        steps = list(error.absolute_path)
+        where = _where(steps)
+        node, member = root.locate(steps)
+        kind = error.validator
+        schema = error.schema
+        if kind == "additionalProperties":
+            known = sorted(schema.get("properties", {}))
+            for m in node.members:
+                if m.key in known:
+                    continue
+                close = difflib.get_close_matches(m.key, known, n=1, cutoff=0.6)
+                hint = (f"did you mean `{close[0]}`?" if close
+                        else f"the keys here are {', '.join(f'`{k}`' for k in known)}")
+                problems.add(where if steps else "", f"unknown key `{m.key}` ({hint})",
+                             m.key_span)
+        elif schema is False:
+            # Keys the command of an operator event does not take (`"v_x": false` under an
+            # `if`/`then`): jsonschema's path stops at the object, so find them in it.
+            for m, what in _forbidden(node):
+                if (m.key_start, m.key) not in forbidden_seen:
+                    forbidden_seen.add((m.key_start, m.key))
+                    problems.add(where, f"`{m.key}` is not a key of {what}", m.key_span)
+        elif kind == "required":
+            for key in error.validator_value:
+                if node.get(key) is None:
+                    problems.add(where, f"the key `{key}` is missing",
+                                 Span(node.start, node.start + 1))
+        elif kind == "type":
+            expected = error.validator_value
+            expected = [expected] if isinstance(expected, str) else expected
+            phrase = " or ".join(_TYPE_PHRASE.get(t, t) for t in expected)
+            problems.add(where, f"must be {phrase}, found {_shown(node, text)}", node.span)
+        elif kind in ("enum", "const"):
+            allowed = error.validator_value if kind == "enum" else [error.validator_value]
+            close = [] if not isinstance(node.value, str) else difflib.get_close_matches(
+                node.value, [a for a in allowed if isinstance(a, str)], n=1, cutoff=0.6)
+            listed = ", ".join(f"`{a}`" for a in allowed)
+            hint = f" (did you mean `{close[0]}`?)" if close else ""
+            problems.add(where, f"must be one of {listed}, found {_shown(node, text)}{hint}",
+                         node.span)
+        elif kind in ("minimum", "maximum", "exclusiveMinimum", "exclusiveMaximum"):
+            bound = error.validator_value
+            phrase = {"minimum": f"at least {bound}", "maximum": f"at most {bound}",
+                      "exclusiveMinimum": f"greater than {bound}",
+                      "exclusiveMaximum": f"less than {bound}"}[kind]
+            problems.add(where, f"must be {phrase}, found {_shown(node, text)}", node.span)
+        elif kind == "pattern":  # the description says the form (`Class/ID`: ...)
+            form = schema.get("description", "of the form the schema gives").rstrip(".")
+            problems.add(where, f"must be {form}, found {_shown(node, text)}", node.span)
+        elif kind == "minLength":
+            problems.add(where, "must not be empty", node.span)
+        elif kind in ("if", "allOf"):
+            continue  # the findings of their parts are reported on their own
+        else:  # not produced by the shipped schema; kept readable for a changed schema
+            problems.add(where, error.message, node.span)
+
+
+def _forbidden(node: JsonNode) -> list[tuple[Member, str]]:
+    """The members of `node` that a conditional rule of the schema forbids: the rules
+    `{"if": {"properties": {K: {"const": C}}}, "then": {"properties": {KEY: false}}}` whose
+    `K` is `C` in `node`; each with what the rule is about (`a `drive` event`)."""
+    out = []
+    for definition in _schema()["$defs"].values():
+        for rule in definition.get("allOf", ()) if isinstance(definition, dict) else ():
+            condition = rule.get("if", {}).get("properties", {})
+            if not condition or not all(
+                    isinstance(node.get(k), JsonNode) and node.get(k).value == c.get("const")
+                    for k, c in condition.items()):
+                continue
+            banned = rule.get("then", {}).get("properties", {})
+            what = " ".join(f"a `{c.get('const')}` event" for c in condition.values())
+            out += [(m, what) for m in node.members if banned.get(m.key) is False]
+    return out
+
+
+def _update_span(item: JsonNode, exc: UpdateError, text: str) -> Span:
+    """Where an update's problem is: inside its jsonmsg when the map said where (a key of the
+    record, a place in its text), else the field it is about."""
+    member = item.member(exc.field)
+    if member is None:
+        return Span(item.start, item.start + 1)
+    node = member.value
+    if exc.span is not None and node.kind == "string":
+        offsets = string_offsets(text, node)
+        last = len(offsets) - 1
+        return Span(offsets[min(exc.span.start, last)], offsets[min(exc.span.end, last)])
+    if exc.key is not None and node.kind == "object":
+        inner = node.member(exc.key)
+        if inner is not None:
+            return inner.key_span if "unknown key" in str(exc) else inner.value.span
+    return node.span
+
+
+def scenario_from_text(text: str, path: str = "<scenario>", folder: str | None = None
+                       ) -> Scenario:
+    """A scenario from the text of a scenario file; raises ScenarioError listing every
+    problem with its line and column. `folder` (default: the current directory) is where the
+    scenario's paths are resolved from."""
+    source = SourceFile(path, text)
+    try:
+        root = parse_json(text, max_depth=MAX_DEPTH)
+    except JsonError as exc:
+        raise ScenarioError(path, [exc.message], [(exc.line, exc.column)]) \
+            from None
+    problems = _Problems(source)
+    _schema_problems(root, problems)
+    problems.raise_if_any()
+    data: dict = root.to_python()  # type: ignore[assignment]
     scenario = Scenario(path, folder=folder if folder is not None else os.getcwd())
-    problems = []
+    updates = root.get("updates")
     for i, item in enumerate(data.get("updates", ())):
         try:
             update = parse_update(item["objectid"], item["attributename"], item["policy"],
                                   item["jsonmsg"])
         except UpdateError as exc:
-            problems.append(f"updates[{i}] (at {item['at']} ms): {exc}")
+            node = updates.items[i]  # type: ignore[union-attr]
+            problems.add(f"updates[{i}] (at {item['at']} ms)", str(exc),
+                         _update_span(node, exc, text))
             continue
         scenario.updates.append(TimedUpdate(item["at"], update, i))
     for i, item in enumerate(data.get("operator", ())):
@@ -119,11 +283,21 @@ def scenario_from_data(data: Any, path: str = "<scenario>", folder: str | None =
     sensing = data.get("sensing", {})
     scenario.sensing_rate_hz = float(sensing.get("rate_hz", 10.0))
     scenario.sensing_range = sensing.get("range")
-    if problems:
-        raise ScenarioError(path, problems)
+    problems.raise_if_any()
     scenario.updates.sort(key=lambda u: u.at)
     scenario.operator.sort(key=lambda o: o.at)
     return scenario
+
+
+def scenario_from_data(data: Any, path: str = "<scenario>", folder: str | None = None) -> Scenario:
+    """A scenario from parsed JSON (a dict, as tests and generators build one): written as
+    JSON text and read as a file is, so the same rules hold (a NaN in `data` is refused as
+    in a file). Raises ScenarioError."""
+    try:
+        text = json.dumps(data, indent=1, ensure_ascii=False)
+    except (TypeError, ValueError, RecursionError) as exc:
+        raise ScenarioError(path, [f"not JSON data: {exc}"]) from None
+    return scenario_from_text(text, path, folder)
 
 
 def load_scenario(path: str) -> Scenario:
@@ -140,10 +314,9 @@ def load_scenario(path: str) -> Scenario:
     try:
         text = raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
-        raise ScenarioError(path, [f"not UTF-8 text (byte offset {exc.start})"]) from None
-    try:
-        data = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise ScenarioError(path, [f"not JSON: {exc.msg} at line {exc.lineno}, "
-                                   f"column {exc.colno}"]) from None
-    return scenario_from_data(data, path, os.path.dirname(os.path.abspath(path)))
+        before = raw[:exc.start]
+        line = before.count(b"\n") + 1
+        column = len(before[before.rfind(b"\n") + 1:].decode("utf-8", errors="replace")) + 1
+        raise ScenarioError(path, [f"not UTF-8 text (byte {exc.start} of the file)"],
+                            [(line, column)]) from None
+    return scenario_from_text(text, path, os.path.dirname(os.path.abspath(path)))

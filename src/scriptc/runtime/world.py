@@ -25,14 +25,17 @@ rebuilt only when an entity is created or its `appearanceon` changes.
 
 from __future__ import annotations
 
+import difflib
 import json
-import math
 import re
 from collections import deque
 from dataclasses import dataclass, field
 from typing import Any
 
+from scriptc.numbers import number_problem, whole_number
 from scriptc.runtime.values import Instruction, to_text
+from scriptc.source import Span
+from scriptc.syntax.jsonpos import JsonError, JsonNode, parse_json
 
 _WHOLE = re.compile(r"[+-]?[0-9]+")
 
@@ -81,7 +84,40 @@ _FIELD_OF_RECORD = {"poses": tuple(_POSE), "tracking": tuple(_TRACKING)}
 
 class UpdateError(ValueError):
     """A MapUpdate that the map cannot take (unknown class or attribute, a policy the
-    attribute does not allow, a `jsonmsg` of the wrong shape)."""
+    attribute does not allow, a `jsonmsg` of the wrong shape). Where the problem is, for a
+    reader that knows where the update was written (a scenario file): `field` is the update's
+    field it is about (`objectid`, `attributename`, `policy`, `jsonmsg`), `key` the key of the
+    jsonmsg's record, and `span` the offending text inside a jsonmsg given as text."""
+
+    def __init__(self, message: str, *, field: str = "jsonmsg", key: str | None = None,
+                 span: Span | None = None) -> None:
+        super().__init__(message)
+        self.field = field
+        self.key = key
+        self.span = span
+
+
+# The nesting of a jsonmsg text: records are flat; an `audioin` value may nest, and goes on to
+# the trace's JSON writer, which recurses.
+JSONMSG_DEPTH = 32
+
+
+def _shown(value: Any) -> str:
+    """A value for a message, as JSON (a number beyond the policy is said to be one)."""
+    if isinstance(value, (int, float)) and number_problem(value) is not None:
+        return "a number beyond a double's range" if isinstance(value, int) else repr(value)
+    try:
+        return json.dumps(value, ensure_ascii=False)
+    except (TypeError, ValueError, RecursionError):
+        return repr(type(value).__name__)
+
+
+def _choices(word: str, known) -> str:
+    """`(did you mean `x`?)` or `(one of `a`, `b`)`: the end of a message about a name."""
+    close = difflib.get_close_matches(word, list(known), n=1, cutoff=0.6)
+    if close:
+        return f"(did you mean `{close[0]}`?)"
+    return f"(one of {', '.join(f'`{k}`' for k in known)})"
 
 
 @dataclass(frozen=True, slots=True)
@@ -102,12 +138,14 @@ class MapUpdate:
 
 
 def _type_ok(kind: str, value: Any) -> Any:
-    """The value converted to `kind`, or raises ValueError with what was expected."""
+    """The value converted to `kind`, or raises ValueError with what was expected. Numbers
+    go through the number policy (scriptc.numbers) first: finite, within a double's range."""
     if kind == "any":
         return value
+    if isinstance(value, (int, float)) and number_problem(value) is not None:
+        raise ValueError("a finite number" if kind == "float" else "a whole number")
     if kind == "float":
-        if isinstance(value, bool) or not isinstance(value, (int, float)) \
-                or not math.isfinite(value):
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise ValueError("a number")
         return float(value)
     if kind == "int":
@@ -116,7 +154,10 @@ def _type_ok(kind: str, value: Any) -> Any:
         if isinstance(value, float) and value.is_integer():
             return int(value)
         if isinstance(value, str) and _WHOLE.fullmatch(value.strip()):
-            return int(value.strip())
+            number = whole_number(value.strip())
+            if number is None or number_problem(number) is not None:
+                raise ValueError("a whole number within a double's range")
+            return number
         if not isinstance(value, int):
             raise ValueError("a whole number")
         return value
@@ -147,53 +188,62 @@ def split_objectid(objectid: str) -> tuple[str, str]:
     cls, sep, ident = objectid.partition("/")
     if cls in ("RobotStatus", "Script"):
         if cls == "Script" and sep:
-            raise UpdateError(f"`Script` takes no id, found `{objectid}`")
+            raise UpdateError(f"`Script` takes no id, found `{objectid}`", field="objectid")
         return cls, ""
     if cls not in ATTRIBUTES:
-        known = ", ".join(f"`{c}`" for c in ATTRIBUTES)
-        raise UpdateError(f"unknown class `{cls}` in objectid `{objectid}` (one of {known})")
+        raise UpdateError(f"unknown class `{cls}` in objectid `{objectid}` "
+                          f"{_choices(cls, ATTRIBUTES)}", field="objectid")
     if not sep or not ident:
-        raise UpdateError(f"objectid `{objectid}` must be `{cls}/ID`")
+        raise UpdateError(f"objectid `{objectid}` must be `{cls}/ID`", field="objectid")
     if "/" in ident:
-        raise UpdateError(f"objectid `{objectid}`: an id cannot contain `/`")
+        raise UpdateError(f"objectid `{objectid}`: an id cannot contain `/`", field="objectid")
     return cls, ident
 
 
 def parse_update(objectid: str, attributename: str, policy: str, jsonmsg: Any) -> MapUpdate:
     """A MapUpdate checked against tables 4.1/4.2. `jsonmsg` is the message's text (JSON text
-    for the record attributes) or an already-parsed JSON value. Raises UpdateError."""
+    for the record attributes, read as every JSON of scriptc is: `scriptc.syntax.jsonpos`,
+    the number policy, at most JSONMSG_DEPTH levels deep) or an already-parsed JSON value.
+    Raises UpdateError."""
     cls, ident = split_objectid(objectid)
     spec = ATTRIBUTES[cls].get(attributename)
     if spec is None:
-        known = ", ".join(f"`{a}`" for a in ATTRIBUTES[cls])
-        raise UpdateError(f"`{cls}` has no attribute `{attributename}` (it has {known})")
+        raise UpdateError(f"`{cls}` has no attribute `{attributename}` "
+                          f"{_choices(attributename, ATTRIBUTES[cls])}", field="attributename")
     policies, kind = spec
     if policy not in ("R", "A"):
-        raise UpdateError(f"policy must be `R` or `A`, found `{policy}`")
+        raise UpdateError(f"policy must be `R` or `A`, found `{policy}`", field="policy")
     if policy not in policies:
-        raise UpdateError(f"`{cls}` `{attributename}` takes policy `R` only, found `{policy}`")
+        raise UpdateError(f"`{cls}` `{attributename}` takes policy `R` only, found `{policy}`",
+                          field="policy")
     value = jsonmsg
     if isinstance(kind, dict):
+        node: JsonNode | None = None
         if isinstance(value, str):
             try:
-                value = json.loads(value)
-            except json.JSONDecodeError as exc:
-                raise UpdateError(f"jsonmsg of `{attributename}` is not JSON: {exc.msg} "
-                                  f"at character {exc.pos}") from None
+                node = parse_json(value, max_depth=JSONMSG_DEPTH)
+            except JsonError as exc:
+                raise UpdateError(f"jsonmsg of `{attributename}` is not JSON: {exc.message}",
+                                  span=exc.span) from None
+            value = node.to_python()
         if not isinstance(value, dict):
             raise UpdateError(f"jsonmsg of `{attributename}` must be an object with "
                               f"{', '.join(f'`{k}`' for k in kind)}")
         record = {}
         for key, item in value.items():
+            member = node.member(key) if node is not None else None
             key_kind = kind.get(key)
             if key_kind is None:
                 raise UpdateError(f"jsonmsg of `{attributename}` has an unknown key `{key}` "
-                                  f"(known: {', '.join(f'`{k}`' for k in kind)})")
+                                  f"{_choices(key, kind)}", key=key,
+                                  span=member.key_span if member is not None else None)
             try:
                 record[key] = _type_ok(key_kind, item)
             except ValueError as exc:
                 raise UpdateError(f"`{key}` in the jsonmsg of `{attributename}` must be "
-                                  f"{exc}, found {json.dumps(item)}") from None
+                                  f"{exc}, found {_shown(item)}", key=key,
+                                  span=member.value.span if member is not None else None
+                                  ) from None
         if attributename.startswith("goal") and "goalid" not in record:
             raise UpdateError(f"jsonmsg of `{attributename}` needs a `goalid`")
         if attributename == "script_vect" and "update" not in record:
@@ -204,7 +254,7 @@ def parse_update(objectid: str, attributename: str, policy: str, jsonmsg: Any) -
             value = _type_ok(kind, value)
         except ValueError as exc:
             raise UpdateError(f"jsonmsg of `{attributename}` must be {exc}, "
-                              f"found {json.dumps(value)}") from None
+                              f"found {_shown(value)}") from None
     return MapUpdate(objectid, attributename, policy, value, cls, ident)
 
 

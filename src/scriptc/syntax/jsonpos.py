@@ -110,6 +110,19 @@ class JsonNode:
             return self.items[step]
         return None
 
+    def locate(self, steps) -> tuple[JsonNode, Member | None]:
+        """The node at a path of keys and indices (as jsonschema reports one), and the member
+        that holds it when the last step is a key; where the path leaves the document, the
+        last node it reached."""
+        node, member = self, None
+        for step in steps:
+            child = node.child(step)
+            if child is None:
+                break
+            member = node.member(step) if isinstance(step, str) else None
+            node = child
+        return node, member
+
     def to_python(self, max_depth: int | None = None) -> object:
         """The plain Python value (dict, list, str, int, float, bool, None), built without
         recursion so a deeply nested document converts as well as it parsed. With
