@@ -8,6 +8,9 @@
    and the interpreter's overhead as a ratio (in-process run time / bare stepping time).
 3. Model load (compile the shipped MJCF) and the first step, in a fresh process, beside the
    import of mujoco itself.
+4. Ctrl-C: a run of a 50-minute move (`--until` an hour), sent SIGINT once it runs: the time
+   from the signal to the process's exit (status 130), and the time of one chunk of physics
+   (`CHUNK_STEPS` steps), the most the session waits before it sees the request.
 
     python bench/bench_mujoco.py
 """
@@ -17,6 +20,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import signal
 import subprocess
 import sys
 import tempfile
@@ -116,6 +120,47 @@ def main() -> None:
     load = min(x[1] for x in loads)
     print(f"fresh process: import mujoco {imp * 1000:.0f} ms; model load (compile the shipped "
           f"MJCF) and first step {load * 1000:.1f} ms")
+    ctrl_c()
+
+
+LONG = ('[long]\n[goal:g]\n[action]\n[b#go#blk_inst: MV("0.2, 0, 0.1, 0, 3000000") '
+        'LD("0, 0, 1, 1, 0, 1000") AO()]\n[b##blk_jump: CND(! {TRUE}) TRJMP(go) FLSJMP()]\n')
+
+
+def ctrl_c() -> None:
+    from scriptc.runtime.robots.mujoco import CHUNK_STEPS, MujocoRobot
+
+    robot = MujocoRobot()
+    robot.set_velocity(0, 0.2, 0, 0.1)
+    chunks = []
+    for i in range(20):
+        t = time.perf_counter()
+        robot.advance((i + 1) * CHUNK_STEPS // robot.steps_per_ms)
+        chunks.append(time.perf_counter() - t)
+    if not os.path.exists("/proc/self/maps"):
+        print("Ctrl-C: needs /proc to see when the run has started (Linux)")
+        return
+    latencies = []
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "long.script")
+        with open(path, "w", encoding="utf-8") as f:
+            f.write(LONG)
+        for _ in range(REPEAT):
+            process = subprocess.Popen([sys.executable, "-m", "scriptc", "run", path, "--until",
+                                        "3600000", "--trace", os.path.join(tmp, "t.jsonl")],
+                                       stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+            while "libmujoco" not in open(f"/proc/{process.pid}/maps").read():
+                time.sleep(0.001)
+            time.sleep(1.5)  # the model is loaded and the session runs
+            sent = time.perf_counter()
+            process.send_signal(signal.SIGINT)
+            process.communicate()
+            latencies.append(time.perf_counter() - sent)
+            assert process.returncode == 130, process.returncode
+    print(f"Ctrl-C during a run of an hour on MuJoCo: exit 130 {min(latencies) * 1000:.0f} to "
+          f"{max(latencies) * 1000:.0f} ms after the signal (process exit included); one chunk "
+          f"of {CHUNK_STEPS:,} steps takes {min(chunks) * 1000:.1f} to {max(chunks) * 1000:.1f} "
+          "ms")
 
 
 if __name__ == "__main__":

@@ -203,13 +203,16 @@ def test_reward_dance_stops_after_one_round_for_nobody(tmp_path: Path) -> None:
 
 def test_approach_stops_a_metre_from_the_child_and_lets_them_come(tmp_path: Path) -> None:
     summary, events = simulate("approach", tmp_path)
-    # Nobody is seen before the first sensor reading, so the robot first waits half a second.
-    # Then the child walks 0.1 m/s, the robot 0.2 m/s: they are 1 m apart at 5.4 s; the robot
-    # stops there (x = 0.98 m) and the child, still walking, comes within 0.7 m at 8.4 s.
-    assert [e["label"] for e in events if e["event"] == "block"][0] == "pause"
-    assert summary["pose"]["x"] == pytest.approx(0.98, abs=0.02)
-    assert [t for t, value in jumps(events, "goal0/act0/blk0") if value] == [5400]
-    assert [t for t, value in jumps(events, "goal1/act0/blk1") if value] == [8400]
+    # The first reading (0 ms) comes before the first jump reads (docs/runtime.md, "The order
+    # of an instant"): the child, 2.475 m away, is within 3 m, and the robot steps at once.
+    assert jumps(events, "goal0/act0/blk1")[0] == (0, True)
+    assert [e["label"] for e in events if e["event"] == "block"][0] == "step"
+    # The child walks 0.1 m/s, the robot 0.2 m/s: they are closer than 1 m at the 5 s reading
+    # (0.975 m); the robot stops there (x = 1 m) and waits in half-second blocks; the child,
+    # still walking, is within 0.7 m at the end of the sixth (8 s, 0.675 m).
+    assert summary["pose"]["x"] == pytest.approx(1.0, abs=0.02)
+    assert [t for t, value in jumps(events, "goal0/act0/blk0") if value] == [5000]
+    assert [t for t, value in jumps(events, "goal1/act0/blk1") if value] == [8000]
     assert goals(summary) == {"child_approached": "reached", "child_came_closer": "reached",
                               "child_welcomed": "reached"}
 

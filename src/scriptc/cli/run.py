@@ -10,9 +10,10 @@ of simulated time: a script may loop forever). `.script` and `.json`
 refused with its diagnostics (exit 1) and nothing runs; the others are compiled to bytecode in
 memory and run through the VM (`--executor ir` runs them through the reference interpreter over
 the IR instead, for comparison). `.scb` (bytecode) is decoded, verified and runs through the
-VM. Exit status: 0 when the run completed or reached `--until`, 1 for a script with errors or
-a run stopped by a run-time error, 2 for a usage problem (a file that cannot be read, a bad
-scenario).
+VM. Exit status: 0 when the run completed, reached `--until` or stalled, 1 for a script with
+errors or a run stopped by a run-time error, 2 for a usage problem (a file that cannot be read,
+a bad scenario), 130 when Ctrl-C stopped it (the trace is written up to there; a second Ctrl-C
+stops at once, without it).
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ import os
 
 import click
 
-from scriptc import driver
+from scriptc import driver, interrupt
 from scriptc.profile import profile_from_settings
 from scriptc.cli._shell import CliError, load, show, write, write_bytes, write_output
 
@@ -206,11 +207,17 @@ def command(ctx: click.Context, files: tuple[str, ...], world: str | None, until
                       loader=lambda path: _loader(path, executor), profile=profile,
                       functions=functions, rules=rules)
     # Scripts may loop forever: without --until, a run stops after an hour of simulated time.
-    result = session.run(until if until is not None else DEFAULT_LIMIT_MS)
+    # Ctrl-C stops the session between two instants (or two chunks of physics): it ends
+    # `interrupted`, its trace is written up to there, and the exit status is 130.
+    with interrupt.catching():
+        result = session.run(until if until is not None else DEFAULT_LIMIT_MS)
+    interrupted = result.outcome == "interrupted"
     capped = until is None and result.outcome == "until"
     if trace_path is not None:
         write_output(trace_path, trace.text())
-    if plot_path is not None:
+    if plot_path is not None and interrupted:
+        write(f"note: interrupted: the picture `{plot_path}` was not drawn\n", err=True)
+    elif plot_path is not None:
         from scriptc.runtime.plot import plot_run
 
         plot_run(trace.events, plot_path, recorder.samples, scenario)
@@ -224,4 +231,6 @@ def command(ctx: click.Context, files: tuple[str, ...], world: str | None, until
             write_bytes(text.encode("utf-8"))
     else:
         write(summary_text(result, shown_path, capped), err=to_stderr)
+    if interrupted:
+        ctx.exit(interrupt.EXIT_STATUS)
     ctx.exit(1 if result.outcome == "error" else 0)

@@ -4,10 +4,11 @@ Nothing in the runtime reads the wall clock (docs/runtime.md, "Time and the loop
 event to the next (a heap: each push and pop is O(log n), no per-millisecond ticking), so a
 ten-minute activity costs what its events cost, not what its minutes cost.
 
-Events at the same millisecond are popped in a fixed order: by `prio` (track progress of the
-actuators, then the operator's timers, then operator events, then sensor updates; see
-docs/runtime.md "Equal times"), then in the order they were pushed. That order is what makes
-two runs of the same inputs identical.
+Events at the same millisecond are popped in a fixed order: by `prio` (the session's start,
+track progress of the actuators, then the operator's timers, then operator events, then sensor
+updates; see docs/runtime.md "The order of an instant"), then in the order they were pushed.
+That order is what makes two runs of the same inputs identical. The session pops every event
+due at a millisecond before it reads any block there.
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ from collections.abc import Callable
 from typing import Any
 
 # Priorities among events of the same millisecond (smaller first).
+PRIO_START = -1  # the session's start: it makes 0 ms an instant even when nothing else is due
 PRIO_TRACK = 0  # + track index 0..2 (move, led, audioout)
 PRIO_OPERATOR_TIMER = 3
 PRIO_OPERATOR = 4

@@ -1,11 +1,19 @@
 """The session: the LIFO of scripts, `idle_activity`, and the loop of thesis 4.2 in simulated
 time. Shared by every executor: it drives whatever `Executor` a `Program` makes.
 
+An instant is a millisecond at which something is due (and 0 ms, the session's start). Every
+instant has the same order (`_loop`; docs/runtime.md, "The order of an instant"): the physics
+is brought up to it, then every event due at it is handled (the actuators' tracks, the
+operator's timers and events, scenario updates and sensor readings are posted, not yet
+applied), and only then does the loop run, as many times as there is something to do at that
+instant. So a jump read at `t` sees every update that arrived at `t`, at 0 ms as at any other.
+
 One loop (`_iterate`), at the instant `now`:
 
 4. apply every pending map update (sensor updates that arrived at `now`, updates rules posted);
 5. apply a compulsory script switch a rule raised (`ScriptInfo.override`);
-6. leave `idle_activity` if a real script is queued;
+6. load the next script when none runs (the session's start), or leave `idle_activity` if a
+   real script is queued;
 7. if the block with the actuators is consumed (or none was issued yet), read blocks
    (`Executor.read`): jumps, sensor blocks, a terminus or the end unload the script and load
    the next; the block reader's `L` bindings end here;
@@ -22,8 +30,10 @@ allows; a held LED onset gets a wake-up event that is not an instant of the loop
 
 The session ends when every queued script has ended (`stop_when_done`, what `scriptc run`
 does: it does not sit in `idle_activity`), at `until`, when nothing can happen any more
-(`stalled`: the operator froze the block and nothing else is scheduled), or on a fatal error
-(`error`: a loop that never lets time pass).
+(`stalled`: no event is scheduled and the wheels are still, as when the operator froze the
+block; it ends at once, `until` or not), on a fatal error (`error`: a loop that never lets time
+pass), or when interrupted (`interrupted`: Ctrl-C under `scriptc.interrupt.catching()`, taken
+between two instants or between two chunks of physics; the trace holds every instant before).
 """
 
 from __future__ import annotations
@@ -31,9 +41,10 @@ from __future__ import annotations
 import os
 from dataclasses import dataclass, field
 
-from scriptc.runtime.actuators import Actuators
+from scriptc.runtime.actuators import ZERO, Actuators
 from scriptc.runtime.bindings import READER, Bindings
-from scriptc.runtime.clock import PRIO_OPERATOR, PRIO_UPDATE, EventQueue
+from scriptc import interrupt
+from scriptc.runtime.clock import PRIO_OPERATOR, PRIO_START, PRIO_UPDATE, EventQueue
 from scriptc.runtime.evaluate import EvalContext, Evaluation, evaluate
 from scriptc.runtime.executor import End, Executor, Issue, Program, ReadLimit, SeekError
 from scriptc.runtime.functions import STANDARD_IMPLEMENTATIONS, Implementations
@@ -81,7 +92,7 @@ class LoadRecord:
 
 @dataclass
 class Result:
-    outcome: str  # "completed", "until", "stalled" or "error"
+    outcome: str  # "completed", "until", "stalled", "error" or "interrupted"
     time_ms: int
     pose: Pose
     loads: list[LoadRecord]
@@ -155,6 +166,11 @@ class Session:
         # LEDs and applies its pending command at the end of every instant.
         self._shows = hasattr(self.robot, "set_led")
         self._show_outputs = self._shows or self.governor is not None
+        # A backend that steps its physics (`stepped`: MuJoCo) is brought up to each instant
+        # before the instant's events, where stepping can be interrupted and costs the same
+        # steps as inside a handler; the kinematic robot is advanced where it is needed only
+        # (its closed form would round differently if cut in more pieces).
+        self._catch_up = bool(getattr(self.robot, "stepped", False))
         self.actuators = Actuators(self.queue, self.robot, self.trace, self.world)
         self.actuators.on_consumed = self._consumed
         self.chain = RuleChain()
@@ -211,21 +227,28 @@ class Session:
                 self.queue.push(op.at, PRIO_OPERATOR, self._on_operator, op)
         if self.sensing is not None:
             self.queue.push(0, PRIO_UPDATE, self._on_sense, None)
+        # The session's start makes 0 ms an instant like any other: its events are handled
+        # first, then the loop loads the first script (step 6) and reads it.
+        self.queue.push(0, PRIO_START, self._on_start, None)
         failed = False
-        try:
-            self._loop(until)
-        except RobotFailure as exc:
-            self._fatal(self.now, "robot-unstable", str(exc))
-            failed = True
         settled = {}
         try:
-            self.robot.advance(self.now)
-            if self.governor is not None and not failed:
-                # The activity is over, the robot may still be braking: the physics goes on
-                # until it is at rest, and the pose is where it stops (docs/robot.md).
-                settled["at_rest_ms"] = self.governor.come_to_rest(self.now)
-        except RobotFailure:
-            pass  # already reported, or the braking failed: the pose is the last one
+            try:
+                self._loop(until)
+            except RobotFailure as exc:
+                self._fatal(self.now, "robot-unstable", str(exc))
+                failed = True
+            try:
+                self.robot.advance(self.now)
+                if self.governor is not None and not failed:
+                    # The activity is over, the robot may still be braking: the physics goes
+                    # on until it is at rest, and the pose is where it stops (docs/robot.md).
+                    settled["at_rest_ms"] = self.governor.come_to_rest(self.now)
+            except RobotFailure:
+                pass  # already reported, or the braking failed: the pose is the last one
+        except interrupt.Interrupted:
+            settled = {}
+            self._interrupted()
         pose = self.robot.pose()
         self.trace.emit(self.now, "session_end", outcome=self.outcome, time_ms=self.now,
                         pose=pose.as_dict(), **settled)
@@ -235,15 +258,16 @@ class Session:
                       {"clamps": self.governor.clamps, "reasons": dict(self.governor.reasons)})
 
     def _loop(self, until: int | None) -> None:
-        self._next_script(0)
-        self._settle(0)
-        if self._show_outputs:
-            self._outputs()
-        queue = self.queue
+        """The instants, each in the same order (see the module's docstring): the physics up to
+        it, every event due at it, then the loop as long as there is something to do."""
+        queue, robot = self.queue, self.robot
         while not self.done:
+            interrupt.check()
             t = queue.next_time()
             if t is None:
-                if until is not None:
+                # Nothing is scheduled: nothing can happen any more. With wheels still turning
+                # (an operator's drive without end) the robot goes on to the time limit.
+                if until is not None and self.actuators.applied != ZERO:
                     self.now, self.outcome = until, "until"
                 else:
                     self.outcome = "stalled"
@@ -251,6 +275,8 @@ class Session:
             if until is not None and t > until:
                 self.now, self.outcome = until, "until"
                 break
+            if self._catch_up:
+                robot.advance(t)
             happened = False
             while (item := queue.pop_due(t)) is not None:
                 happened = item[0](t, item[1]) or happened
@@ -259,6 +285,26 @@ class Session:
                 self._settle(t)
                 if self._show_outputs:
                     self._outputs()
+
+    def _on_start(self, now: int, _arg) -> bool:
+        """The session's start: an instant at 0 ms (the loop's step 6 loads the first script)."""
+        return True
+
+    def _interrupted(self) -> None:
+        """Ctrl-C (`interrupt.check` raised): the session stops where it is. No instant was
+        under way (checks are made between instants and between chunks of physics), so the
+        trace holds every instant up to `now`; the time reached is where the physics got."""
+        self.outcome = "interrupted"
+        self.done = True
+        if self._catch_up:
+            # Stepped up to each instant, the physics is at the last one or on its way to the
+            # next one (or to the time limit, or braking after the end): nothing happened
+            # between, so that is the time reached.
+            self.now = self.robot.time_ms
+        else:
+            # The kinematic robot may lag behind the last instant (it is advanced where it is
+            # needed): bringing it there costs nothing.
+            self.robot.advance(self.now)
 
     def _outputs(self) -> None:
         """The end of an instant: the LEDs and the speaker into a robot model that shows them
@@ -314,8 +360,11 @@ class Session:
         # 5. a compulsory script switch
         if world.script.override is not None and not self.done:
             self._apply_override(now)
-        # 6. leave idle_activity when a real script waits
-        if self.current_program is self.idle and self.lifo and not self.done:
+        # 6. load the next script when none runs (the session's start), leave idle_activity
+        # when a real script waits
+        if self.current is None and not self.done:
+            self._next_script(now)
+        elif self.current_program is self.idle and self.lifo and not self.done:
             self._unload(now, "idle_escape")
             self._next_script(now)
         # 7. read blocks

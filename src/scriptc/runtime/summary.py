@@ -2,16 +2,25 @@
 
 from __future__ import annotations
 
-import json
-
+from scriptc.numbers import json_dumps
 from scriptc.runtime.session import Result
 
 _OUTCOMES = {
     "completed": "every script ended",
     "until": "stopped at the time limit",
-    "stalled": "nothing more could happen (the block is frozen and nothing is scheduled)",
+    "stalled": "nothing more could happen (nothing is scheduled and the wheels are still: the "
+               "operator froze the block)",
     "error": "stopped by an error",
+    "interrupted": "stopped by Ctrl-C",
 }
+
+
+def _running(result: Result) -> str:
+    """What an interrupted run was running: the script loaded last, unless it had ended."""
+    if result.loads and result.loads[-1].ended_by is None:
+        load = result.loads[-1]
+        return f" while `{load.script}` ({load.path}) was running"
+    return ""
 
 
 _CAPPED = ("the scripts did not end within the default limit of one hour of simulated time "
@@ -23,7 +32,7 @@ def summary_json(result: Result, trace_path: str | None = None, capped: bool = F
     data["trace"] = trace_path
     if capped:
         data["note"] = _CAPPED
-    return json.dumps(data, ensure_ascii=False, indent=2) + "\n"
+    return json_dumps(data, ensure_ascii=False, indent=2) + "\n"
 
 
 def _goals(goals: dict[str, str]) -> str:
@@ -39,8 +48,10 @@ def _fixed(value: float) -> str:
 
 
 def summary_text(result: Result, trace_path: str | None = None, capped: bool = False) -> str:
+    interrupted = result.outcome == "interrupted"
     lines = [f"{result.outcome} at {result.time_ms} ms ({result.time_ms / 1000:.3f} s "
-             f"simulated): {_OUTCOMES.get(result.outcome, result.outcome)}"]
+             f"simulated): {_OUTCOMES.get(result.outcome, result.outcome)}"
+             f"{_running(result) if interrupted else ''}"]
     if capped:
         lines.append(f"  note: {_CAPPED}")
     for load in result.loads:
@@ -63,5 +74,6 @@ def summary_text(result: Result, trace_path: str | None = None, capped: bool = F
         lines.append(f"  {'error' if error.get('fatal') else 'warning'} at {error['t']} ms "
                      f"[{error['code']}]: {error['message']}")
     if trace_path:
-        lines.append(f"  trace: {trace_path} ({len(result.trace.events)} events)")
+        upto = ", up to the interruption" if interrupted else ""
+        lines.append(f"  trace: {trace_path} ({len(result.trace.events)} events{upto})")
     return "\n".join(lines) + "\n"

@@ -3,19 +3,24 @@ body-frame velocities (docs/robot.md). The only module of scriptc that imports `
 (the `mujoco-core` package: the physics, without a viewer or GL; it runs headless).
 
 Stepping (docs/robot.md, "Stepping"): the session calls `set_velocity` only when the
-velocity changes, so the control is written once per change and `advance` steps all the
-physics steps up to the requested time in one `mj_step(model, data, nstep=n)` call. The
-model's timestep is 1 ms, so every duration of a script (whole milliseconds) lands on a whole
+velocity changes, so the control is written once per change and `advance` steps the physics
+up to the requested time in `mj_step(model, data, nstep=n)` calls of at most `CHUNK_STEPS`
+steps. `mj_step` holds the thread in C, where Python cannot take Ctrl-C: between two chunks
+`scriptc.interrupt.check()` can stop the run (an hour of physics in one call ignored Ctrl-C
+for a minute). Cutting changes nothing of the physics: n steps in one call or in several are
+the same steps. The session brings the robot up to each instant before handling its events
+(`stepped`), so an interruption never falls inside an instant. The model's timestep is 1 ms, so every duration of a script (whole milliseconds) lands on a whole
 number of steps; the step count is integer arithmetic, never a rounded float. A move that is
 consumed sets the velocity to zero (the actuators do it), and the velocity actuators (time
 constant 0.1 ms) stop the base within a step.
 
 The actuators are velocity servos on integrators (`teo.xml`): the activation is the velocity
 setpoint, ctrl its rate of change. A change at once writes the activation (ctrl 0); a ramp of
-the governor (`rates`, `robots.Ramp`) is stepped in batches of constant ctrl: `mj_step(nstep=n)`
-with ctrl = each axis's rate of change over the whole milliseconds of its ramp (the activation
-is then written to the target, so no rounding accumulates). A ramp costs at most two batches
-(the plane, the turn), whatever its length.
+the governor (`ramp`, `motion.Ramp`) is stepped in batches of constant ctrl: `mj_step(nstep=n)`
+with ctrl = each axis's rate of change over the whole milliseconds between two moments where
+an axis starts or ends its ramp (the activation is written to its exact value at each, so no
+rounding accumulates). A ramp costs at most three batches (the plane and the turn start and
+end), whatever its length.
 
 MuJoCo does not raise on a numerical blow-up: it prints a warning and resets the state (or
 zeroes a bad control). After every batch of steps the warning counters are compared with the
@@ -31,9 +36,16 @@ from importlib import resources
 
 import mujoco
 
+from scriptc import interrupt
 from scriptc.runtime.robots import Pose, Ramp, RobotFailure
 
 MODEL_NAME = "teo.xml"
+
+# The most physics steps in one `mj_step` call: 5,000 steps take about 10 ms on the machine
+# of docs/robot.md's figures (2 us a step), 0.1 s on a machine ten times as loaded, so Ctrl-C
+# is taken well within half a second; the Python between two chunks costs nothing measurable
+# (`tests/test_interrupt.py` prints the latency; bench/bench_mujoco.py the speed).
+CHUNK_STEPS = 5000
 
 # MuJoCo's warnings go to stdout and to a MUJOCO_LOG.TXT in the current directory by default;
 # scriptc keeps the last ones instead and reports them in the run's `robot-unstable` error.
@@ -61,6 +73,10 @@ def load_model() -> mujoco.MjModel:
 
 class MujocoRobot:
     name = "mujoco"
+    # Advancing costs time in proportion to the interval (physics steps), and advancing in
+    # several calls gives the same steps as in one: the session brings it up to each instant
+    # before the instant's events (runtime/session.py).
+    stepped = True
 
     def __init__(self, model: mujoco.MjModel | None = None) -> None:
         # A copy per robot: the LED materials change during a run (physics is unaffected).
@@ -88,12 +104,11 @@ class MujocoRobot:
     # -- the Robot interface ----------------------------------------------------------------
 
     def set_velocity(self, t_ms: int, v_x: float, v_y: float, v_theta: float,
-                     rates: tuple[float, float, float] | None = None) -> None:
+                     ramp: Ramp | None = None) -> None:
         self.advance(t_ms)
-        now = self.velocity
         self._v = (float(v_x), float(v_y), float(v_theta))
-        self._ramp = ramp = Ramp.between(t_ms, now, self._v, rates)
-        self.data.act[:] = self._v if ramp is None else now
+        self._ramp = ramp
+        self.data.act[:] = self._v if ramp is None else ramp.velocity(t_ms)
         self.data.ctrl[:] = 0.0
 
     def advance(self, t_ms: int) -> None:
@@ -103,33 +118,43 @@ class MujocoRobot:
             self._step(t_ms - self._t)
 
     def _ramp_batch(self, t_ms: int) -> None:
-        """Step the next milliseconds of the ramp over which ctrl is constant (up to t_ms)."""
+        """Step the next milliseconds of the ramp over which ctrl is constant (up to t_ms):
+        up to the next millisecond where an axis starts or ends its ramp."""
         ramp = self._ramp
-        k = self._t - ramp.t0 + 1  # the next millisecond of the ramp
-        last = t_ms - ramp.t0
+        a = self._t
+        b = ramp.breaks(a, min(t_ms, ramp.end))[0]
         act, ctrl = self.data.act, [0.0, 0.0, 0.0]
-        for i, n in enumerate(ramp.steps):
-            if k <= n:  # ramping: ctrl is the axis's rate
+        start, end = ramp.velocity(a), ramp.velocity(b)
+        for i in range(3):
+            if ramp.ramping(i, a, b):  # ramping: ctrl is the axis's rate, from its exact value
                 ctrl[i] = ramp.step[i] * 1000.0
-                last = min(last, n)
-            else:  # on the target (exactly: no rounding carried on)
-                act[i] = ramp.target[i]
+                act[i] = start[i]
+            else:  # before or after its ramp (exactly: no rounding carried on)
+                act[i] = end[i]
         self.data.ctrl[:] = ctrl
-        self._step(last - k + 1)
+        self._step(b - a)
         if self._t >= ramp.end:
             self.data.act[:] = ramp.target
             self.data.ctrl[:] = 0.0
             self._ramp = None
 
     def _step(self, ms: int) -> None:
-        n = ms * self.steps_per_ms
-        mujoco.mj_step(self.model, self.data, nstep=n)
-        self.steps += n
-        self._t += ms
-        warnings = int(self.data.warning.number.sum())
-        if warnings != self._warnings:
-            self._warnings = warnings
-            raise RobotFailure(self._describe_warnings(self._t))
+        """Step `ms` milliseconds in chunks of at most CHUNK_STEPS steps; between two chunks
+        a new MuJoCo warning stops the run (RobotFailure), and so does Ctrl-C (Interrupted)."""
+        chunk_ms = max(1, CHUNK_STEPS // self.steps_per_ms)
+        while ms > 0:
+            part = min(ms, chunk_ms)
+            n = part * self.steps_per_ms
+            mujoco.mj_step(self.model, self.data, nstep=n)
+            self.steps += n
+            self._t += part
+            ms -= part
+            warnings = int(self.data.warning.number.sum())
+            if warnings != self._warnings:
+                self._warnings = warnings
+                raise RobotFailure(self._describe_warnings(self._t))
+            if ms:
+                interrupt.check()
 
     def pose(self) -> Pose:
         q = self.data.qpos

@@ -1,0 +1,80 @@
+"""Ctrl-C as a request that long work takes at a safe point: one mechanism for every verb that
+may run for long (`scriptc run` uses it; docs/runtime.md, "Interrupting a run").
+
+By default Python turns SIGINT into `KeyboardInterrupt` wherever the main thread happens to be,
+which may leave work half done (a trace missing its end), and not at all while C code holds
+the thread (MuJoCo's `mj_step` over an hour of physics ignores Ctrl-C until it returns). So:
+
+- `catching()` (a context manager, around the work): the first Ctrl-C only records the request;
+  a second one raises `KeyboardInterrupt` at once, the way out if the work never reaches a safe
+  point. Outside it, and in threads other than the main one (which never receive signals),
+  nothing changes.
+- `check()`, called by the work at its safe points (between two instants of a session, between
+  two bounded chunks of physics steps), raises `Interrupted` when Ctrl-C was pressed. Work that
+  runs in C for long must be cut into chunks short enough for the response time wanted (half a
+  second), with a `check()` between them.
+- `request()` records a request without a signal (tests; a parent stopping its work).
+
+Whoever catches `Interrupted` finishes cleanly (closes what it writes, says how far it got) and
+exits with `EXIT_STATUS`, 130 (128 + SIGINT), what shells report for a command stopped by
+Ctrl-C. This module imports only the standard library, so anything may use it.
+"""
+
+from __future__ import annotations
+
+import signal
+import threading
+from collections.abc import Iterator
+from contextlib import contextmanager
+
+EXIT_STATUS = 130
+
+_requested = False
+
+
+class Interrupted(Exception):
+    """Ctrl-C was pressed; raised by `check()` at a safe point of the work."""
+
+
+def requested() -> bool:
+    """Whether Ctrl-C was pressed (inside `catching()`) or `request()` was called."""
+    return _requested
+
+
+def request() -> None:
+    """Ask the work to stop at its next `check()`."""
+    global _requested
+    _requested = True
+
+
+def check() -> None:
+    """Raise `Interrupted` when a stop was requested (cheap: call it as often as needed)."""
+    if _requested:
+        raise Interrupted("interrupted (Ctrl-C)")
+
+
+def _on_sigint(signum, frame) -> None:
+    global _requested
+    if _requested:  # the second Ctrl-C: the user does not want to wait for a safe point
+        raise KeyboardInterrupt
+    _requested = True
+
+
+@contextmanager
+def catching() -> Iterator[None]:
+    """Within the block, Ctrl-C is a request taken by `check()` (see the module's docstring).
+    The request is cleared on entry and on exit, and the previous SIGINT handler restored."""
+    global _requested
+    _requested = False
+    previous = None
+    if threading.current_thread() is threading.main_thread():
+        try:
+            previous = signal.signal(signal.SIGINT, _on_sigint)
+        except ValueError:  # an embedding that does not let Python handle signals
+            previous = None
+    try:
+        yield
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGINT, previous)
+        _requested = False
