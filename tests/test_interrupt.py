@@ -113,27 +113,31 @@ def test_an_interrupted_session_keeps_every_instant_before_and_says_so() -> None
 
 def test_mujoco_steps_in_chunks_that_change_nothing_and_an_interruption_cuts() -> None:
     pytest.importorskip("mujoco")
+    from scriptc.profile import DEFAULT_PROFILE
     from scriptc.runtime.robots import mujoco as backend
 
-    def drive(robot) -> None:
-        robot.set_velocity(0, 0.3, 0.1, 0.5, rates=(1.0, 1.0, 3.0))
-        robot.advance(12_345)
-        robot.set_velocity(12_345, 0.0, 0.2, -0.4)
-        robot.advance(31_000)
+    # Governed moves (every change a ramp) of 7.5 s and 12.3 s: stepped in chunks, or each
+    # interval in one call, the same steps, so the same trace and pose, to the last bit.
+    text = ("[m]\n[goal:g]\n[action]\n[b##blk_inst: MV(\"0.3, 0.1, 0.5, 0, 7500\", "
+            "\"0, 0.2, -0.4, 0, 12300\") LD() AO()]\n[b##blk_terminus]\n")
+    analysis = analyze_bytes("m.script", text.encode(), "script")
 
-    chunked = backend.MujocoRobot()
-    drive(chunked)
-    saved = backend.CHUNK_STEPS
-    backend.CHUNK_STEPS = 10**9  # one mj_step call per interval
-    try:
-        whole = backend.MujocoRobot()
-        drive(whole)
-    finally:
-        backend.CHUNK_STEPS = saved
-    assert chunked.pose() == whole.pose() and chunked.steps == whole.steps == 31_000
+    def run() -> tuple[str, object]:
+        trace = Trace()
+        robot = backend.MujocoRobot()
+        Session([IRProgram(analysis.script, "m.script")], robot=robot, trace=trace,
+                profile=DEFAULT_PROFILE).run()
+        return trace.text(), robot
+
+    chunked, chunked_robot = run()
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(backend, "CHUNK_STEPS", 10**9)  # one mj_step call per interval
+        whole, whole_robot = run()
+    assert chunked == whole and chunked_robot.pose() == whole_robot.pose()
+    assert chunked_robot.steps == whole_robot.steps > 19_800
 
     robot = backend.MujocoRobot()
-    robot.set_velocity(0, 0.2, 0, 0)
+    robot.set_velocity(0, 0.2, 0, 0)  # at once: no ramp
     with interrupt.catching():
         interrupt.request()
         with pytest.raises(interrupt.Interrupted):

@@ -9,8 +9,9 @@ steps. `mj_step` holds the thread in C, where Python cannot take Ctrl-C: between
 `scriptc.interrupt.check()` can stop the run (an hour of physics in one call ignored Ctrl-C
 for a minute). Cutting changes nothing of the physics: n steps in one call or in several are
 the same steps. The session brings the robot up to each instant before handling its events
-(`stepped`), so an interruption never falls inside an instant. The model's timestep is 1 ms, so every duration of a script (whole milliseconds) lands on a whole
-number of steps; the step count is integer arithmetic, never a rounded float. A move that is
+(`stepped`), so an interruption never falls inside an instant. The model's timestep is 1 ms,
+so every duration of a script (whole milliseconds) lands on a whole number of steps; the step
+count is integer arithmetic, never a rounded float. A move that is
 consumed sets the velocity to zero (the actuators do it), and the velocity actuators (time
 constant 0.1 ms) stop the base within a step.
 
