@@ -73,9 +73,8 @@ def test_the_workflow_uploads_sarif_and_annotates(scaffold: Path) -> None:
     assert "scriptc lint . --format github" in text
     assert "scriptc lint . --format sarif" in text and "upload-sarif" in text
     assert "security-events: write" in text and "\t" not in text
-    from scriptc import __version__
-
-    assert f'"scriptc=={__version__}"' in text
+    # What it installs is the running scriptc's (tests/test_provenance.py, each case).
+    assert "Install scriptc" in text
 
 
 def test_pre_commit_configuration_runs_real_verbs(scaffold: Path) -> None:
@@ -135,3 +134,86 @@ def test_the_cli_documentation_covers_every_option() -> None:
                     assert f"`{opt}" in docs, f"docs/cli.md lacks {verb} {opt}"
     for status in ("0", "1", "2", "130"):
         assert f"| {status} |" in docs
+
+
+# -- pre-commit: the hooks as another repository uses them, and as `repo: local` hooks ----------
+
+
+def _manifest() -> list[dict]:
+    from pre_commit.clientlib import load_manifest
+
+    return load_manifest(str(ROOT / ".pre-commit-hooks.yaml"))  # pre-commit's own validation
+
+
+def _fenced_yaml(after: str) -> str:
+    docs = (ROOT / "docs" / "cli.md").read_text(encoding="utf-8")
+    return re.search(re.escape(after) + r".*?```yaml\n(.*?)```", docs, re.DOTALL).group(1)
+
+
+def test_the_manifest_is_valid_for_pre_commit() -> None:
+    hooks = _manifest()
+    assert [h["id"] for h in hooks] == ["scriptc-lint", "scriptc-lint-fix", "scriptc-fmt",
+                                        "scriptc-fmt-check"]
+    for hook in hooks:
+        assert re.search(hook["files"], "activities/a.script")
+        assert not re.search(hook["files"], "activities/a.script.json")
+
+
+def test_the_local_hooks_are_the_manifests_hooks(scaffold: Path) -> None:
+    """`scriptc init`'s `repo: local` hooks and the documented ones are the published hooks,
+    entry for entry, run by the installed scriptc."""
+    import yaml
+    from pre_commit.clientlib import load_config
+
+    published = {h["id"]: h for h in _manifest()}
+    written = (scaffold / ".pre-commit-config.yaml").read_text(encoding="utf-8")
+    assert _fenced_yaml("`.pre-commit-config.yaml`:") == written
+    # pre-commit accepts it (recent versions read `system` as their new name, `unsupported`)
+    for config in (load_config(str(scaffold / ".pre-commit-config.yaml")),
+                   yaml.safe_load(written)):
+        (repo,) = config["repos"]
+        assert repo["repo"] == "local"
+        for hook in repo["hooks"]:
+            assert hook["language"] in ("system", "unsupported")
+            for key in ("entry", "files", "require_serial"):
+                assert hook.get(key, False) == published[hook["id"]].get(key, False), key
+
+
+def test_the_local_hooks_run_in_pre_commit(scaffold: Path, tmp_path: Path) -> None:
+    """pre-commit itself runs the scaffold's hooks (no download: `language: system`): clean
+    scripts pass; a script out of layout is rewritten and fails the run."""
+    import os
+    import shutil
+    import subprocess
+    import sys
+
+    git = shutil.which("git")
+    assert git is not None
+    env = {**os.environ, "PRE_COMMIT_HOME": str(tmp_path / "pre-commit-home"),
+           "PATH": os.path.dirname(sys.executable) + os.pathsep + os.environ.get("PATH", ""),
+           "SCRIPTC_CACHE_DIR": str(tmp_path / "cache")}
+    assert shutil.which("scriptc", path=env["PATH"]) is not None
+
+    def pre_commit() -> subprocess.CompletedProcess:
+        subprocess.run([git, "add", "-A"], cwd=scaffold, check=True, env=env)
+        return subprocess.run([sys.executable, "-m", "pre_commit", "run", "--all-files"],
+                              cwd=scaffold, env=env, capture_output=True, text=True, timeout=120)
+
+    subprocess.run([git, "init", "-q"], cwd=scaffold, check=True, env=env)
+    done = pre_commit()
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert re.findall(r"^(scriptc \w+)\.+Passed$", done.stdout, re.MULTILINE) == [
+        "scriptc fmt", "scriptc lint"]
+    messy = scaffold / "activities" / "messy.script"
+    messy.write_text("[messy]\n[goal:g]\n[action]\n[b##blk_terminus]\n", encoding="utf-8")
+    done = pre_commit()
+    assert done.returncode == 1 and "files were modified by this hook" in done.stdout
+    assert messy.read_text(encoding="utf-8") == "[messy]\n[goal:g]\n  [action]\n    [b##blk_terminus]\n"
+
+
+def test_the_documented_workflow_is_the_one_init_writes() -> None:
+    from scriptc.cli.init import workflow
+    from scriptc.provenance import PLACEHOLDER, Provenance
+
+    assert _fenced_yaml("`scriptc init` writes this workflow") == \
+        workflow(Provenance("vcs", PLACEHOLDER))

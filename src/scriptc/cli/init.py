@@ -7,6 +7,11 @@ pre-commit configuration (`.pre-commit-config.yaml`). DIR (default: the working 
 created when missing. Existing files are never overwritten: each is named as skipped. The
 repository it writes lints clean (tests/test_init.py holds that).
 
+The workflow installs the scriptc that runs `init`, as pip recorded where it came from
+(`scriptc.provenance`): a commit of a repository, a version of a package index. A scriptc that
+no other machine can install (a local checkout) gets an install step that fails saying what to
+write, and `init` warns about it, rather than a line that installs something else.
+
 Exit status: 0 done (some files may have been skipped), 2 DIR is not a folder or a file
 cannot be written.
 """
@@ -14,11 +19,12 @@ cannot be written.
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
 
 import click
 
-from scriptc import __version__
 from scriptc.cli._shell import CliError, write
+from scriptc.provenance import PLACEHOLDER, Provenance, provenance
 
 CONFIG = """\
 # The configuration of this activity repository, read by every `scriptc` command run in it
@@ -93,7 +99,7 @@ The activities' audio tracks go here (`audio-root` in scriptc.toml): a script pl
 `audio/songs/hello.wav` as `AO("songs/hello.wav, 0, 1000")`.
 """
 
-WORKFLOW = f"""\
+WORKFLOW = """\
 # Lint the activities on every push and pull request. Errors fail the job; every diagnostic
 # shows as an annotation on the changed lines (--format github) and as a code-scanning alert
 # (--format sarif, uploaded below). The second run reads the first one's cache, so it costs
@@ -117,15 +123,17 @@ jobs:
         with:
           python-version: "3.11"
       - name: Install scriptc
-        run: python -m pip install "scriptc=={__version__}"
+        id: install
+<install>
       - name: Lint (annotations)
         run: scriptc lint . --format github
+      # The next two run even when the first lint found errors, but not without scriptc.
       - name: Lint (SARIF for code scanning)
-        if: always()
+        if: always() && steps.install.outcome == 'success'
         # Exit status 1 (errors found) still leaves a SARIF file to upload; 2 does not.
         run: scriptc lint . --format sarif --quiet > scriptc.sarif || test $? -eq 1
       - name: Upload to code scanning
-        if: always()
+        if: always() && steps.install.outcome == 'success'
         uses: github/codeql-action/upload-sarif@v3
         with:
           sarif_file: scriptc.sarif
@@ -151,23 +159,51 @@ repos:
         require_serial: true  # scriptc lints in parallel itself
 """
 
-# (path inside DIR, content), in the order they are written and reported.
-FILES: tuple[tuple[str, str], ...] = (
+# The install step when scriptc cannot tell where it came from: it fails, saying what to do,
+# rather than install something else (a package of that name on an index need not be ours).
+UNKNOWN_INSTALL = f"""\
+        # `scriptc init` ran from a scriptc that no other machine can install (a local checkout).
+        # Replace the command below with the install of your scriptc, for example
+        #   python -m pip install "{PLACEHOLDER}"
+        # (scriptc's docs/cli.md, "Installing scriptc in CI").
+        run: |
+          echo "::error::Edit the step 'Install scriptc' of .github/workflows/scriptc.yml: it does not say where to install scriptc from."
+          exit 1"""
+
+
+def workflow(origin: Provenance) -> str:
+    """The CI workflow, installing the scriptc that `origin` describes."""
+    requirement = origin.requirement()
+    if requirement is None:
+        step = UNKNOWN_INSTALL
+    else:
+        step = f'        run: python -m pip install "{requirement}"'
+    return WORKFLOW.replace("<install>", step)
+
+
+WORKFLOW_PATH = ".github/workflows/scriptc.yml"
+
+# (path inside DIR, content or a function of the running scriptc's provenance), in the order
+# they are written and reported.
+FILES: tuple[tuple[str, str | Callable[[Provenance], str]], ...] = (
     ("scriptc.toml", CONFIG),
     ("activities/hello.script", ACTIVITY),
     ("scenarios/hello.json", SCENARIO),
     ("audio/README.md", AUDIO),
-    (".github/workflows/scriptc.yml", WORKFLOW),
+    (WORKFLOW_PATH, workflow),
     (".pre-commit-config.yaml", PRE_COMMIT),
 )
 
 
-def scaffold(folder: str) -> tuple[list[str], list[str]]:
+def scaffold(folder: str, origin: Provenance | None = None) -> tuple[list[str], list[str]]:
     """Write the files of a new activity repository into `folder` (made when missing), never
-    over an existing file: the paths written and the paths skipped. Raises OSError."""
+    over an existing file: the paths written and the paths skipped. `origin` is where the
+    scriptc the workflow installs comes from (default: the running one's). Raises OSError."""
+    origin = origin if origin is not None else provenance()
     os.makedirs(folder, exist_ok=True)
     written, skipped = [], []
-    for name, text in FILES:
+    for name, content in FILES:
+        text = content if isinstance(content, str) else content(origin)
         path = os.path.join(folder, *name.split("/"))
         if os.path.lexists(path):
             skipped.append(name)
@@ -191,8 +227,9 @@ def command(folder: str) -> None:
     activity and scenario, a CI workflow and pre-commit hooks. Existing files are kept."""
     if os.path.exists(folder) and not os.path.isdir(folder):
         raise CliError(f"`{folder}` is not a folder")
+    origin = provenance()
     try:
-        written, skipped = scaffold(folder)
+        written, skipped = scaffold(folder, origin)
     except OSError as exc:
         raise CliError(f"cannot write in `{folder}`: {exc.strerror or exc}") from None
     lines = [f"created {name}" for name in written]
@@ -201,3 +238,9 @@ def command(folder: str) -> None:
         where = "" if os.path.abspath(folder) == os.getcwd() else f"cd {folder} && "
         lines.append(f"next: {where}scriptc lint .")
     write("".join(line + "\n" for line in lines))
+    if WORKFLOW_PATH in written and origin.requirement() is None:
+        write(f"warning: {WORKFLOW_PATH} cannot install scriptc: {origin.reason}. Edit its step "
+              f"`Install scriptc` to install your scriptc, for example\n"
+              f"  python -m pip install \"{PLACEHOLDER}\"\n"
+              "(docs/cli.md, \"Installing scriptc in CI\"); until then the workflow fails "
+              "there, saying so.\n", err=True)

@@ -137,7 +137,7 @@ def _loader(path: str, executor: str = "vm"):
                    "script says).")
 @click.option("--plot", "plot_path", metavar="FILE",
               help="Draw the run (trajectory from above, timeline of the tracks) to FILE.png "
-                   "or FILE.svg (needs matplotlib: pip install 'scriptc[plot]').")
+                   "or FILE.svg (needs matplotlib, scriptc's plot extra).")
 @click.option("--executor", "executor", type=click.Choice(["vm", "ir"]), default="vm",
               show_default=True,
               help="How .script and .json files run: vm (compiled to bytecode, run by the VM) "
@@ -168,7 +168,11 @@ def command(ctx: click.Context, files: tuple[str, ...], world: str | None, until
         import importlib.util
 
         if importlib.util.find_spec("matplotlib") is None:
-            raise CliError("--plot needs matplotlib: pip install 'scriptc[plot]'")
+            from scriptc.provenance import extra_install_command
+
+            raise CliError("--plot needs matplotlib, which is not installed here; install it "
+                           "into scriptc's environment with\n  "
+                           + extra_install_command("plot", ["matplotlib"]))
     scenario = None
     if world is not None:
         try:
