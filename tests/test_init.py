@@ -125,7 +125,8 @@ def test_the_cli_documentation_covers_every_option() -> None:
 
     group = cli
     assert isinstance(group, LazyGroup)
-    for verb in ("compile", "lint", "check", "decompile", "explain", "init"):
+    for verb in ("compile", "lint", "check", "decompile", "explain", "init", "show-settings",
+                 "clean", "completion"):
         assert f"## `scriptc {verb}" in docs, verb
         command = group.get_command(None, verb)
         for param in command.params:

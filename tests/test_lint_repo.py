@@ -37,7 +37,8 @@ def write(root: Path, files: dict[str, str]) -> None:
 def linted(root: Path, *args: str) -> list[str]:
     """The files `scriptc lint` reads under `root`, relative to it."""
     records = json.loads(run("lint", str(root), "--format", "json", "--no-cache", *args).stdout)
-    return sorted({Path(r["file"]).relative_to(root).as_posix() for r in records})
+    return sorted({Path(os.path.abspath(r["file"])).relative_to(root).as_posix()
+                   for r in records})
 
 
 @pytest.fixture
@@ -278,7 +279,7 @@ def test_grouped_format(project: Path) -> None:
         "error: 2 errors, 1 warning emitted\n"
     )
     assert result.stderr == ("checked 2 files: 2 errors, 1 warning; 1 fix available "
-                             "(`scriptc lint --fix` applies it)\n")
+                             "(`scriptc lint --fix` applies it), 1 more with `--unsafe-fixes`\n")
 
 
 def test_a_single_file_gets_no_summary_and_quiet_none_at_all(project: Path) -> None:

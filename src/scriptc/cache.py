@@ -24,6 +24,7 @@ from typing import Any
 from scriptc import __version__
 from scriptc.diagnostics.model import Diagnostic, Fix, Label, Severity, TextEdit
 from scriptc.source import Span
+from scriptc.writing import create_file, replace_file
 
 CACHE_DIR_NAME = ".scriptc_cache"
 CACHEDIR_TAG = (
@@ -145,10 +146,10 @@ class Cache:
                 self._prepare()
                 os.makedirs(folder, exist_ok=True)
                 self._made.add(folder)
-            tmp = f"{path}.{os.getpid()}.tmp"
-            with open(tmp, "w", encoding="utf-8") as f:
-                json.dump(value, f, separators=(",", ":"), ensure_ascii=False)
-            os.replace(tmp, path)
+            data = json.dumps(value, separators=(",", ":"), ensure_ascii=False).encode("utf-8")
+            # Atomic, as every file scriptc writes, without the flush to disk: an entry lost
+            # in a crash is only a miss.
+            replace_file(path, data, durable=False)
         except OSError:
             pass
 
@@ -161,8 +162,10 @@ class Cache:
                            (".gitignore", "# Created by scriptc: the cache is not source.\n*\n")):
             target = os.path.join(self.folder, name)
             if not os.path.exists(target):
-                with open(target, "w", encoding="utf-8") as f:
-                    f.write(text)
+                try:
+                    create_file(target, text.encode("utf-8"))
+                except FileExistsError:
+                    pass  # another run made it meanwhile
         self._made.add(self.folder)
 
     # Results of analysing one file.
@@ -183,15 +186,21 @@ class Cache:
         self.put("results", key, [dump_diagnostic(d) for d in diagnostics])
 
 
-def default_cache_dir(start: str = ".") -> str:
-    """Where the cache goes without `--cache-dir`: `SCRIPTC_CACHE_DIR`, else the folder of the
-    configuration that applies to `start` (a file or folder: the project's root), else the
-    working folder."""
+def default_cache_dir(start: str = ".", *, config: str | None = None,
+                      isolated: bool = False) -> str:
+    """Where the cache goes without `--cache-dir`: `SCRIPTC_CACHE_DIR`, else the project's
+    root: the folder of the configuration (`config` when one is forced, else the one that
+    applies to `start`, a file or folder), else (no configuration, or `isolated`) the working
+    folder. From a subfolder or from outside the project, it is the same folder."""
     env = os.environ.get("SCRIPTC_CACHE_DIR")
     if env:
         return env
-    from scriptc.config import find_config
+    found = None
+    if config:
+        found = os.path.abspath(config)
+    elif not isolated:
+        from scriptc.config import find_config
 
-    found = find_config(start)
+        found = find_config(start)
     root = os.path.dirname(found) if found else "."
     return os.path.join(root, CACHE_DIR_NAME)

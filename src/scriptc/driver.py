@@ -11,13 +11,16 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
+from scriptc import interrupt
 from scriptc.diagnostics.model import Diagnostic, has_errors
 from scriptc.analysis import finish
 from scriptc.gcpause import gc_paused
 from scriptc.profile import profile_from_settings
 from scriptc.ir.builtins import STANDARD, FunctionRegistry
 from scriptc.ir.nodes import Script
+from scriptc.paths import shown_path
 from scriptc.source import SourceFile
+from scriptc.writing import UTF8_BOM, WriteError, encode_like, write_file
 
 
 @dataclass
@@ -66,9 +69,6 @@ def analyze_json(source: SourceFile, functions: FunctionRegistry = STANDARD,
 # ---------------------------------------------------------------------------------------------
 # Reading sources: bytes in, a SourceFile out, never an exception for bad content.
 
-_BOM = b"\xef\xbb\xbf"
-
-
 class ReadError(Exception):
     """A file that cannot be read at all (missing, a directory, no permission). The content
     of a file is never a ReadError: bad bytes are a P007 diagnostic (`decode_source`)."""
@@ -83,8 +83,8 @@ def decode_source(path: str, data: bytes) -> tuple[SourceFile, Diagnostic | None
     the bad byte are exact and a renderer can show the offending line.
     """
     skipped = 0
-    if data.startswith(_BOM):
-        data, skipped = data[len(_BOM):], len(_BOM)
+    if data.startswith(UTF8_BOM):
+        data, skipped = data[len(UTF8_BOM):], len(UTF8_BOM)
     bad: int | None = None
     message = ""
     try:
@@ -125,13 +125,15 @@ def read_bytes(path: str | os.PathLike[str]) -> bytes:
         with open(path, "rb") as f:
             return f.read()
     except FileNotFoundError:
-        raise ReadError(f"`{path}` does not exist") from None
+        raise ReadError(f"`{shown_path(os.fspath(path))}` does not exist") from None
     except IsADirectoryError:
-        raise ReadError(f"`{path}` is a directory, not a file") from None
+        raise ReadError(f"`{shown_path(os.fspath(path))}` is a directory, not a file") from None
     except PermissionError:
-        raise ReadError(f"cannot read `{path}`: permission denied") from None
+        raise ReadError(f"cannot read `{shown_path(os.fspath(path))}`: permission denied") \
+            from None
     except OSError as exc:
-        raise ReadError(f"cannot read `{path}`: {exc.strerror or exc}") from None
+        raise ReadError(f"cannot read `{shown_path(os.fspath(path))}`: "
+                        f"{exc.strerror or exc}") from None
 
 
 def read_source(path: str | os.PathLike[str], name: str | None = None
@@ -236,38 +238,6 @@ def same_file(a: str, b: str) -> bool:
         return os.path.realpath(a) == os.path.realpath(b)
 
 
-def write_atomic(path: str, data: str | bytes) -> None:
-    """Write `data` (text as UTF-8, exactly: no newline translation) to `path` so that
-    readers see either the old file or the whole new one: a temporary file in the same folder,
-    flushed, then renamed over the target. The new file gets the old one's permissions, or
-    the usual ones for a new file (0666 less the umask). Raises OSError."""
-    import tempfile
-
-    if isinstance(data, str):
-        data = data.encode("utf-8")
-    folder = os.path.dirname(os.path.abspath(path))
-    try:
-        mode = os.stat(path).st_mode & 0o7777
-    except OSError:
-        umask = os.umask(0)
-        os.umask(umask)
-        mode = 0o666 & ~umask
-    fd, tmp = tempfile.mkstemp(dir=folder, prefix=f".{os.path.basename(path)}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb") as f:
-            f.write(data)
-            f.flush()
-            os.fsync(f.fileno())
-        os.chmod(tmp, mode)
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
-
-
 # ---------------------------------------------------------------------------------------------
 # The code registry, for `scriptc explain`
 
@@ -303,12 +273,16 @@ def suggest_codes(query: str, limit: int = 3) -> list[str]:
 
 class LintOptions:
     """How `lint_paths` runs. `cache_dir` None: `scriptc.cache.default_cache_dir()`; `jobs`
-    None: one worker per available core; `progress(done, total)` is called as files finish."""
+    None: one worker per available core; `progress(done, total)` is called as files finish.
+    `fix` rewrites files with their fixes; `diff` computes the same fixes and writes nothing
+    (each report's `fixed_text`); `unsafe_fixes` takes the unsafe fixes too; `selection` is
+    the command line's rule selection over every configuration (`config.RuleSelection`)."""
 
     def __init__(self, cache: bool = True, cache_dir: str | None = None, jobs: int | None = None,
                  fix: bool = False, config: str | None = None, isolated: bool = False,
                  force_exclude: bool = False,
-                 progress: Callable[[int, int], None] | None = None) -> None:
+                 progress: Callable[[int, int], None] | None = None, *,
+                 diff: bool = False, unsafe_fixes: bool = False, selection=None) -> None:
         self.cache = cache
         self.cache_dir = cache_dir
         self.jobs = jobs
@@ -317,45 +291,67 @@ class LintOptions:
         self.isolated = isolated
         self.force_exclude = force_exclude
         self.progress = progress
+        self.diff = diff
+        self.unsafe_fixes = unsafe_fixes
+        self.selection = selection
 
 
 class FileReport:
     """What linting one file reports (renderers read `source` and `diagnostics`); `path` is
     the file as named (`-` for stdin), `cached` whether the result came from the cache,
-    `fixed` how many fixes `--fix` applied to it."""
+    `fixed` how many fixes `--fix` applied to it (or, with `diff`, would apply), and
+    `fixed_text` the text `--fix` would write, when `diff` asked for it and it differs."""
 
-    __slots__ = ("source", "diagnostics", "path", "cached", "fixed")
+    __slots__ = ("source", "diagnostics", "path", "cached", "fixed", "fixed_text")
 
     def __init__(self, source: SourceFile, diagnostics: list[Diagnostic], path: str = "",
-                 cached: bool = False, fixed: int = 0) -> None:
+                 cached: bool = False, fixed: int = 0, fixed_text: str | None = None) -> None:
         self.source = source
         self.diagnostics = diagnostics
         self.path = path
         self.cached = cached
         self.fixed = fixed
+        self.fixed_text = fixed_text
 
     def __repr__(self) -> str:
         return f"FileReport({self.source.path!r}, {len(self.diagnostics)} diagnostics)"
 
     @property
     def fixable(self) -> int:
-        return sum(1 for d in self.diagnostics if d.fix is not None and d.fix.safe)
+        return self.fixes(unsafe=False)
+
+    def fixes(self, unsafe: bool = False) -> int:
+        """How many diagnostics have a fix `--fix` takes: the safe ones, and the unsafe ones
+        too with `unsafe` (`--unsafe-fixes`)."""
+        return sum(1 for d in self.diagnostics if d.fix is not None and (unsafe or d.fix.safe))
 
 
 class LintRun(Run):
     """`Run` with the configurations' own reports first in `results`, and counts: files
-    read, results from the cache, fixes applied and the files they changed."""
+    read, results from the cache, fixes applied and the files they changed. `unsafe_fixes`:
+    whether the unsafe fixes count as available."""
 
-    def __init__(self, files: int = 0) -> None:
+    def __init__(self, files: int = 0, unsafe_fixes: bool = False) -> None:
         super().__init__()
         self.files = files
         self.cached = 0
         self.fixed = 0
         self.fixed_files = 0
+        self.unsafe_fixes = unsafe_fixes
+        self.configs = 0  # how many of `results`, at the start, are configuration files
 
     @property
     def fixable(self) -> int:
-        return sum(r.fixable for r in self.results if isinstance(r, FileReport))
+        """The fixes `--fix` would apply (with `--unsafe-fixes`, the unsafe ones too)."""
+        return sum(r.fixes(self.unsafe_fixes) for r in self.results if isinstance(r, FileReport))
+
+    @property
+    def hidden_fixes(self) -> int:
+        """The unsafe fixes left out because `--unsafe-fixes` was not given."""
+        if self.unsafe_fixes:
+            return 0
+        return sum(r.fixes(True) - r.fixes(False) for r in self.results
+                   if isinstance(r, FileReport))
 
 
 def available_cores() -> int:
@@ -366,25 +362,33 @@ def available_cores() -> int:
 
 
 def discover(paths: list[str] | tuple[str, ...], kind: str = "script", *,
-             resolver=None, force_exclude: bool = False) -> list[str]:
-    """The files `scriptc lint PATH...` and `scriptc fmt PATH...` read, in order. A file named
-    on the command line is read whatever its suffix; a folder contributes its `*.script` files
-    (only for `kind` "script"), recursively and sorted, skipping hidden files and folders,
-    what .gitignore files ignore and what the configuration excludes (`scriptc.files`); `-`
-    (stdin) is kept; a file reached twice is read once. Raises ReadError for a path that does
-    not exist, before any is read. With `force_exclude` the configuration's `exclude` applies to files
-    named on the command line too (for pre-commit, which names every changed file)."""
-    missing = [p for p in paths if p != "-" and not os.path.lexists(p)]
-    if missing:
-        raise ReadError(f"`{missing[0]}` does not exist")
-    from scriptc.files import Walker
+             resolver=None, force_exclude: bool = False) -> tuple[list[str], list[str]]:
+    """The files `scriptc lint PATH...`, `scriptc check PATH...` and `scriptc fmt PATH...`
+    read, in order, and the problems met finding them. A file named on the command line is
+    read whatever its suffix; a folder contributes its `*.script` files (for `kind` "json":
+    its `.json` files that are thesis scripts, `is_thesis_json`), recursively and sorted,
+    skipping hidden files and folders, what .gitignore files ignore and what the
+    configuration excludes (`scriptc.files`); `-` (stdin) is kept; a file reached twice is
+    read once. A path that does not exist and a folder that cannot be read are problems, each
+    named, and the other paths go on. With `force_exclude` the configuration's `exclude`
+    applies to files named on the command line too (for pre-commit, which names every
+    changed file)."""
+    from scriptc.files import SCRIPT_SUFFIX, Walker
 
-    walker = Walker(resolver.for_folder if resolver is not None else None)
+    walker = Walker(resolver.for_folder if resolver is not None else None,
+                    suffix=".json" if kind == "json" else SCRIPT_SUFFIX,
+                    accept=is_thesis_json if kind == "json" else None)
     found: list[str] = []
+    problems: list[str] = []
     seen: set[str] = set()
     for path in paths:
-        if kind == "script" and path != "-" and os.path.isdir(path):
+        if path != "-" and not os.path.lexists(path):
+            problems.append(f"`{shown_path(path)}` does not exist")
+            continue
+        if path != "-" and os.path.isdir(path):
             inner = walker.walk(path)
+            problems += walker.problems
+            walker.problems.clear()
         elif force_exclude and path != "-" and walker.excluded(os.path.abspath(path), False):
             inner = []
         else:
@@ -394,7 +398,27 @@ def discover(paths: list[str] | tuple[str, ...], kind: str = "script", *,
             if key not in seen:
                 seen.add(key)
                 found.append(p)
-    return found
+    return found, problems
+
+
+def is_thesis_json(path: str) -> bool:
+    """Whether a `.json` file met in a folder is a thesis script (not a scenario, not a
+    `package.json`): its top-level object has `activityname`; or, when it does not read as
+    JSON at all (a broken script is still a script), its text names `"activityname"`. A file
+    that cannot be read counts, so that reading it reports why."""
+    import json
+
+    try:
+        data = read_bytes(path)
+    except ReadError:
+        return True
+    if data.startswith(UTF8_BOM):
+        data = data[len(UTF8_BOM):]
+    try:
+        value = json.loads(data)
+    except (ValueError, RecursionError):
+        return b'"activityname"' in data
+    return isinstance(value, dict) and "activityname" in value
 
 
 # Worker processes: the registry of each set of user functions is built once per worker.
@@ -467,28 +491,61 @@ def _analyze_parallel(tasks: list[tuple[str, bytes, str, tuple]], jobs: int,
         size += len(task[1])
     finished: set[int] = set()
     try:
-        pool = ProcessPoolExecutor(max_workers=min(jobs, len(chunks)), mp_context=context)
+        pool = ProcessPoolExecutor(max_workers=min(jobs, len(chunks)), mp_context=context,
+                                   initializer=_worker_start)
     except (OSError, ValueError, NotImplementedError) as exc:
         raise _PoolFailed from exc
-    with pool:
-        try:
+    try:
+        # The workers are started by the first submissions; Ctrl-C is held back meanwhile,
+        # so that none starts before it ignores Ctrl-C (`_worker_start`).
+        with interrupt.deferred():
             pending = {pool.submit(_analyze_chunk, [tasks[i] for i in chunk]): chunk
                        for chunk in chunks}
-            while pending:
-                ready, _ = wait(pending, return_when=FIRST_COMPLETED)
-                for future in ready:
-                    chunk = pending.pop(future)
-                    for i, diagnostics in zip(chunk, future.result()):
-                        finished.add(i)
-                        done(i, diagnostics)
-        except BrokenProcessPool:
-            # A worker died (killed, out of memory): finish the rest here.
-            for i, task in enumerate(tasks):
-                if i not in finished:
-                    done(i, _analyze_task(task))
-        except BaseException:
-            pool.shutdown(wait=False, cancel_futures=True)
-            raise
+        while pending:
+            ready, _ = wait(pending, return_when=FIRST_COMPLETED)
+            for future in ready:
+                chunk = pending.pop(future)
+                for i, diagnostics in zip(chunk, future.result()):
+                    finished.add(i)
+                    done(i, diagnostics)
+    except BrokenProcessPool:
+        # A worker died (killed, out of memory): finish the rest here.
+        _stop_workers(pool)
+        for i, task in enumerate(tasks):
+            if i not in finished:
+                done(i, _analyze_task(task))
+    except BaseException:
+        # Ctrl-C (or a failure here): the workers are stopped now, not after their chunks.
+        _stop_workers(pool)
+        raise
+    else:
+        pool.shutdown(wait=True)
+
+
+def _worker_start() -> None:
+    """The start of a worker process: Ctrl-C is the parent's to handle (a terminal sends it to
+    every process of the command; the parent stops the workers)."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if hasattr(signal, "pthread_sigmask"):
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
+
+
+def _stop_workers(pool) -> None:
+    """Stop a process pool at once: pending work cancelled, the workers terminated and
+    waited for (none is left behind)."""
+    processes = list((getattr(pool, "_processes", None) or {}).values())
+    pool.shutdown(wait=False, cancel_futures=True)
+    for process in processes:
+        if process.is_alive():
+            process.terminate()
+    for process in processes:
+        process.join(timeout=5)
+        if process.is_alive():
+            process.kill()
+            process.join()
+    pool.shutdown(wait=True)
 
 
 def apply_fixes(text: str, fixes: list) -> tuple[str, int]:
@@ -528,8 +585,8 @@ def lint_paths(paths: list[str] | tuple[str, ...], kind: str = "script", *,
     """Lint (`kind="script"`) or check (`kind="json"`) every file named by `paths`, with the
     configuration of each file, its cached result when it has one, worker processes for the
     rest and, with `options.fix`, the safe fixes applied (files rewritten atomically). A path
-    that does not exist raises ReadError before anything is read; a file that cannot be read
-    is recorded in `problems`, and the others go on."""
+    that does not exist, a folder or a file that cannot be read is recorded in `problems`,
+    and the others go on. Files are named by `scriptc.paths.shown_path`."""
     from scriptc.config import Resolver
 
     options = options or LintOptions()
@@ -537,12 +594,18 @@ def lint_paths(paths: list[str] | tuple[str, ...], kind: str = "script", *,
     if options.cache:
         from scriptc.cache import Cache, default_cache_dir
 
-        # The project's root is that of the first path's configuration (else here).
-        first = next((p for p in paths if p != "-"), ".")
-        cache = Cache(options.cache_dir or default_cache_dir(first))
-    resolver = Resolver(cache, config=options.config, isolated=options.isolated)
-    files = discover(paths, kind, resolver=resolver, force_exclude=options.force_exclude)
-    run = LintRun(files=len(files))
+        # The project's root is that of the first path's configuration (else here): the
+        # same folder from wherever scriptc runs.
+        first = next((p for p in paths if p != "-"),
+                     stdin_name if stdin_name != "<stdin>" else ".")
+        cache = Cache(options.cache_dir or default_cache_dir(
+            first, config=options.config, isolated=options.isolated))
+    resolver = Resolver(cache, config=options.config, isolated=options.isolated,
+                        selection=options.selection)
+    files, problems = discover(paths, kind, resolver=resolver,
+                               force_exclude=options.force_exclude)
+    run = LintRun(files=len(files), unsafe_fixes=options.unsafe_fixes)
+    run.problems += problems
 
     # Read every file, and look each up in the cache.
     entries: list[tuple[str, str, bytes, Any, str | None]] = []  # path, name, data, settings, key
@@ -551,10 +614,10 @@ def lint_paths(paths: list[str] | tuple[str, ...], kind: str = "script", *,
             if path == "-":
                 if stdin is None:
                     raise ReadError("reading stdin is not supported here")
-                data, name = stdin(), stdin_name
+                data, name = stdin(), shown_path(stdin_name)
                 settings = resolver.for_file(stdin_name if stdin_name != "<stdin>" else "-")
             else:
-                data, name = read_bytes(path), path
+                data, name = read_bytes(path), shown_path(path)
                 settings = resolver.for_file(path)
         except ReadError as exc:
             run.problems.append(str(exc))
@@ -614,12 +677,13 @@ def lint_paths(paths: list[str] | tuple[str, ...], kind: str = "script", *,
         shown = None if path == "-" and stdin_name == "<stdin>" else name
         diagnostics = settings.apply(found[i], shown)
         report = FileReport(source, diagnostics, path, cached=i in hits)
-        if options.fix and path != "-" and report.fixable:
+        fixing = options.diff or (options.fix and path != "-")
+        if fixing and report.fixes(options.unsafe_fixes):
             try:
-                report = _fix_file(report, data, kind, settings, cache)
-            except OSError as exc:
-                run.problems.append(f"cannot write the fixes to `{path}`: "
-                                    f"{exc.strerror or exc}")
+                report = _fix_file(report, data, kind, settings, cache,
+                                   unsafe=options.unsafe_fixes, write=not options.diff)
+            except WriteError as exc:
+                run.problems.append(f"{exc}: its fixes were not written")
             run.fixed += report.fixed
             run.fixed_files += 1 if report.fixed else 0
         reports.append(report)
@@ -627,20 +691,23 @@ def lint_paths(paths: list[str] | tuple[str, ...], kind: str = "script", *,
     configs = [FileReport(c.source, c.diagnostics, c.source.path)
                for c in resolver.configs if c.diagnostics]
     run.results = [*configs, *reports]
+    run.configs = len(configs)
     return run
 
 
-def _fix_file(report: FileReport, data: bytes, kind: str, settings, cache) -> FileReport:
-    """Apply the safe fixes of a file until none is left (or MAX_FIX_ROUNDS), re-linting
-    after each round; write the file atomically when it changed (OSError when it cannot be
-    written)."""
+def _fix_file(report: FileReport, data: bytes, kind: str, settings, cache, *,
+              unsafe: bool = False, write: bool = True) -> FileReport:
+    """Apply the safe fixes of a file (the unsafe ones too with `unsafe`) until none is left
+    (or MAX_FIX_ROUNDS), re-linting after each round; write the file atomically when it
+    changed (WriteError when it cannot be written). Without `write` nothing is written: the
+    report keeps the file as it is, with the text the fixes give in `fixed_text`."""
     source, diagnostics = report.source, report.diagnostics
     text = source.text
     functions = tuple(f.signature for f in settings.functions)
     profile = profile_from_settings(settings)
     fixed = 0
     for _round in range(MAX_FIX_ROUNDS):
-        fixes = [d.fix for d in diagnostics if d.fix is not None and d.fix.safe]
+        fixes = [d.fix for d in diagnostics if d.fix is not None and (unsafe or d.fix.safe)]
         if not fixes:
             break
         new_text, applied = apply_fixes(text, fixes)
@@ -652,9 +719,11 @@ def _fix_file(report: FileReport, data: bytes, kind: str, settings, cache) -> Fi
         diagnostics = settings.apply(raw, source.path)
     if text == source.text:
         return report
-    bom = _BOM if data.startswith(_BOM) else b""
-    new_data = bom + text.encode("utf-8")
-    write_atomic(report.path, new_data)
+    if not write:
+        return FileReport(source, report.diagnostics, report.path, report.cached, fixed=fixed,
+                          fixed_text=text)
+    new_data = encode_like(text, data)
+    write_file(report.path, new_data)
     if cache is not None:
         cache.put_result(cache.result_key(kind, settings.digest, new_data), raw)
     return FileReport(SourceFile(source.path, text), diagnostics, report.path, fixed=fixed)
@@ -676,7 +745,8 @@ def settings_for(path: str, *, cache: bool = True):
     if cache:
         from scriptc.cache import Cache, default_cache_dir
 
-        store = Cache(default_cache_dir())
+        # The cache of the file's project, wherever scriptc runs (as `lint_paths`).
+        store = Cache(default_cache_dir(path if path not in ("-", "<stdin>") else "."))
     resolver = Resolver(store)
     settings = resolver.for_file(path if path not in ("-", "<stdin>") else "-")
     reports = [FileReport(c.source, c.diagnostics, c.source.path)

@@ -10,7 +10,8 @@ from typing import IO
 
 import click
 
-from scriptc import driver
+from scriptc import driver, interrupt, writing
+from scriptc.paths import shown_path
 from scriptc.profile import profile_from_settings
 from scriptc.diagnostics.render import FORMATS, render
 
@@ -22,6 +23,12 @@ class CliError(click.ClickException):
 
     def show(self, file: IO[str] | None = None) -> None:
         click.echo(f"error: {self.format_message()}", err=True)
+
+
+class Stopped(CliError):
+    """Ctrl-C stopped the work: exit 130, with what was interrupted and how far it got."""
+
+    exit_code = interrupt.EXIT_STATUS
 
 
 def format_option(function):
@@ -63,10 +70,11 @@ def load(path: str, kind: str, stdin_name: str = "<stdin>") -> driver.Analysis:
             click.get_current_context().exit(1)
     try:
         if path == "-":
-            analysis = driver.analyze_bytes(stdin_name, read_stdin(), kind, settings.registry,
-                                            profile_from_settings(settings))
+            analysis = driver.analyze_bytes(shown_path(stdin_name), read_stdin(), kind,
+                                            settings.registry, profile_from_settings(settings))
         else:
-            analysis = driver.analyze_file(path, kind, functions=settings.registry,
+            analysis = driver.analyze_file(path, kind, name=shown_path(path),
+                                           functions=settings.registry,
                                            profile=profile_from_settings(settings))
     except driver.ReadError as exc:
         raise CliError(str(exc)) from None
@@ -129,16 +137,25 @@ def show(results: list[driver.Analysis], format_: str = "text", *, err: bool = F
         write_bytes(output.encode("utf-8"))
 
 
-def write_output(path: str, text: str | bytes) -> None:
-    """An output file written atomically (`-` is stdout); a failure is a CliError. Text is
-    written as UTF-8; bytes (bytecode) as they are."""
-    if path == "-":
-        write_bytes(text if isinstance(text, bytes) else text.encode("utf-8"))
-        return
+def check_output(path: str) -> None:
+    """Refuse, before any work, an output path that cannot be written (a folder, a missing
+    folder: `scriptc.writing.check_target`) with a CliError."""
     try:
-        driver.write_atomic(path, text)
-    except OSError as exc:
-        raise CliError(f"cannot write `{path}`: {exc.strerror or exc}") from None
+        writing.check_target(path)
+    except writing.WriteError as exc:
+        raise CliError(str(exc)) from None
+
+
+def write_output(path: str, text: str | bytes) -> None:
+    """An output file written by the one writer (`scriptc.writing`: `-` is stdout, a link's
+    target is written, a device or FIFO directly, a file atomically); a failure is a CliError.
+    Text is written as UTF-8; bytes (bytecode) as they are."""
+    if path == "-":
+        sys.stdout.flush()  # what was written through the text layer comes first
+    try:
+        writing.write_file(path, text)
+    except writing.WriteError as exc:
+        raise CliError(str(exc)) from None
 
 
 def refuse_overwriting_input(input_path: str, output_path: str) -> None:
@@ -149,12 +166,26 @@ def refuse_overwriting_input(input_path: str, output_path: str) -> None:
 
 def report_paths(ctx: click.Context, paths: tuple[str, ...], kind: str, format_: str,
                  stdin_name: str, options: driver.LintOptions | None = None, *,
-                 quiet: bool = False) -> None:
-    """`lint` and `check`: analyse the paths (with their configuration, the cache and worker
-    processes: `driver.lint_paths`), show the diagnostics on stdout, a summary on stderr when
-    several files were read, and exit with the run's status (a file that cannot be read is
-    named on stderr and makes it 2)."""
+                 quiet: bool = False, statistics: bool = False, output_file: str | None = None,
+                 exit_zero: bool = False) -> None:
+    """`lint` and `check`: `lint_report`, then exit with its status."""
+    ctx.exit(lint_report(paths, kind, format_, stdin_name, options, quiet=quiet,
+                         statistics=statistics, output_file=output_file, exit_zero=exit_zero))
+
+
+def lint_report(paths: tuple[str, ...], kind: str, format_: str, stdin_name: str,
+                options: driver.LintOptions | None = None, *, quiet: bool = False,
+                statistics: bool = False, output_file: str | None = None,
+                exit_zero: bool = False) -> int:
+    """Analyse the paths (with their configuration, the cache and worker processes:
+    `driver.lint_paths`), show the diagnostics on stdout (or in `output_file`), a summary on
+    stderr when several files were read, and return the run's status (a file that cannot be
+    read is named on stderr and makes it 2). `statistics` shows a count per code instead of
+    the diagnostics; `options.diff` the unified diff of what the fixes would change instead
+    (status 1 when there is one); `exit_zero` turns status 1 into 0."""
     options = options or driver.LintOptions()
+    if output_file is not None:
+        check_output(output_file)
     progress = Progress(quiet)
     options.progress = progress
     try:
@@ -162,17 +193,117 @@ def report_paths(ctx: click.Context, paths: tuple[str, ...], kind: str, format_:
                                 options=options)
     except driver.ReadError as exc:
         raise CliError(str(exc)) from None
+    except KeyboardInterrupt:
+        # Worker processes are stopped by then, and every file written so far (cache
+        # entries, fixes) was put in place whole (`scriptc.writing`).
+        progress.close()
+        verb = "checking" if kind == "json" else "linting"
+        how_far = (f"{progress.done} of {_plural(progress.total, 'file')} analysed"
+                   if progress.total else "before any file was analysed")
+        raise Stopped(f"interrupted (Ctrl-C) while {verb}, {how_far}: nothing was reported, "
+                      "and no file was left half-written") from None
     finally:
         progress.close()
     for problem in run.problems:
         write(f"error: {problem}\n", err=True)
     if not run.files and not run.problems:
         write("warning: no script files found under the given paths\n", err=True)
-    show(run.results, format_)
+    status = run.exit_code
     several = run.files > 1 or any(p != "-" and os.path.isdir(p) for p in paths)
-    if not quiet and (run.fixed or (several and run.files)):
-        write(run_summary(run, several), err=True)
-    ctx.exit(run.exit_code)
+    if options.diff:
+        # As ruff's `--diff`: the changes, not the diagnostics; the configuration's own
+        # problems still go to stderr, and status 1 says there is something to fix.
+        configs = run.results[:run.configs]
+        if configs:
+            show(configs, err=True)
+        output = "".join(fix_diff(r) for r in run.results[run.configs:])
+        emit_output(output, output_file)
+        if not quiet:
+            write(diff_summary(run), err=True)
+        status = 2 if run.problems else 1 if run.fixed or driver.configuration_failed(configs) \
+            else 0
+    else:
+        if statistics:
+            output = render_statistics(run, format_)
+        else:
+            color = format_ == "text" and output_file is None and use_color(sys.stdout)
+            output = rendered(run.results, format_, color=color, unsafe=options.unsafe_fixes)
+        emit_output(output, output_file, human=format_ in ("text", "grouped"))
+        if not quiet and (run.fixed or (several and run.files)):
+            write(run_summary(run, several), err=True)
+    return 0 if exit_zero and status == 1 else status
+
+
+def rendered(results: list, format_: str, *, color: bool = False, unsafe: bool = False) -> str:
+    """The diagnostics in one of the formats of `lint` (`grouped` marks with `[*]` what
+    `--fix` fixes: with `unsafe`, the unsafe fixes too)."""
+    if format_ == "grouped":
+        return render_grouped(results, unsafe=unsafe)
+    return render(format_, results, color=color)
+
+
+def emit_output(text: str, output_file: str | None, *, human: bool = False) -> None:
+    """What `lint` prints, to stdout or to `--output-file` (through the one writer). Text for
+    people goes through the terminal's encoding; machine formats and diffs are UTF-8 bytes."""
+    if output_file is not None and output_file != "-":
+        write_output(output_file, text)
+    elif human:
+        write(text)
+    else:
+        write_bytes(text.encode("utf-8"))
+
+
+def fix_diff(report) -> str:
+    """The unified diff of what `--fix` would change in one file (`--diff`), or ''."""
+    if getattr(report, "fixed_text", None) is None:
+        return ""
+    from scriptc.cli.fmt import unified_diff
+
+    return unified_diff(report.source.text, report.fixed_text, report.source.path)
+
+
+def diff_summary(run: driver.LintRun) -> str:
+    """The line `scriptc lint --diff` ends with on stderr."""
+    if run.fixed:
+        line = (f"would fix {_plural(run.fixed, 'problem')} in "
+                f"{_plural(run.fixed_files, 'file')}")
+    else:
+        line = "nothing to fix"
+    if run.hidden_fixes:
+        line += f" ({_plural(run.hidden_fixes, 'more fix', 'more fixes')} with `--unsafe-fixes`)"
+    return line + "\n"
+
+
+def render_statistics(run: driver.LintRun, format_: str) -> str:
+    """`lint --statistics`: how many diagnostics of each code, most frequent first (then by
+    code), with the code's name and `[*]` when `--fix` fixes every one of them (as ruff's);
+    as text, or as JSON (`code`, `name`, `severity`, `count`, `fixable`) with `--format json`."""
+    from scriptc.diagnostics.codes import lookup
+
+    counts: dict[str, list] = {}
+    for result in run.results:
+        for d in result.diagnostics:
+            applies = d.fix is not None and (run.unsafe_fixes or d.fix.safe)
+            entry = counts.setdefault(d.code, [0, True, d.severity.value])
+            entry[0] += 1
+            entry[1] = entry[1] and applies
+    rows = sorted(counts.items(), key=lambda item: (-item[1][0], item[0]))
+    if format_ == "json":
+        import json
+
+        records = [{"code": code, "name": lookup(code).name, "severity": severity,
+                    "count": count, "fixable": fixable}
+                   for code, (count, fixable, severity) in rows]
+        return json.dumps(records, indent=2, ensure_ascii=False) + "\n"
+    if not rows:
+        return ""
+    width = max(len(str(count)) for _code, (count, _f, _s) in rows)
+    any_fixable = any(fixable for _code, (_c, fixable, _s) in rows)
+    lines = []
+    for code, (count, fixable, _severity) in rows:
+        mark = ("[*] " if fixable else "    ") if any_fixable else ""
+        lines.append(f"{count:>{width}}\t{code}\t{mark}{lookup(code).name}\n")
+    return "".join(lines)
 
 
 def _plural(n: int, word: str, words: str | None = None) -> str:
@@ -199,8 +330,15 @@ def run_summary(run: driver.LintRun, several: bool = True) -> str:
         cached = f" ({run.cached} unchanged, from the cache)" if run.cached else ""
         line = f"checked {_plural(run.files, 'file')}{cached}: {', '.join(found)}"
         if run.fixable:
+            flags = "--fix --unsafe-fixes" if run.unsafe_fixes else "--fix"
             line += (f"; {_plural(run.fixable, 'fix', 'fixes')} available "
-                     f"(`scriptc lint --fix` applies {'it' if run.fixable == 1 else 'them'})")
+                     f"(`scriptc lint {flags}` applies {'it' if run.fixable == 1 else 'them'})")
+        hidden = run.hidden_fixes  # unsafe fixes, left out without --unsafe-fixes
+        if hidden and run.fixable:
+            line += f", {hidden} more with `--unsafe-fixes`"
+        elif hidden:
+            line += (f"; {_plural(hidden, 'unsafe fix', 'unsafe fixes')} available (`scriptc "
+                     f"lint --fix --unsafe-fixes` applies {'it' if hidden == 1 else 'them'})")
         lines.append(line)
     return "".join(line + "\n" for line in lines)
 
@@ -217,8 +355,10 @@ class Progress:
         self.enabled = not quiet and _stderr_is_terminal()
         self._bar = None
         self._task = None
+        self.done = self.total = 0  # the last figures, for the message of an interruption
 
     def __call__(self, done: int, total: int) -> None:
+        self.done, self.total = done, total
         if not self.enabled or total < PROGRESS_MIN_FILES or done >= total and self._bar is None:
             return
         if self._bar is None:
@@ -262,9 +402,10 @@ def _printable(text: str) -> str:
                                                    for c in text)
 
 
-def render_grouped(results: list) -> str:
+def render_grouped(results: list, *, unsafe: bool = False) -> str:
     """Each file with diagnostics, then one line per diagnostic: `  LINE:COL CODE [*] severity:
-    message` (`[*]`: `--fix` can fix it), a blank line between files, and the summary."""
+    message` (`[*]`: `--fix` can fix it; with `unsafe`, `--fix --unsafe-fixes`), a blank line
+    between files, and the summary."""
     from scriptc.diagnostics.render import summary
 
     out = []
@@ -275,7 +416,7 @@ def render_grouped(results: list) -> str:
         rows = []
         for d in result.diagnostics:
             pos = source.position(d.span.start)
-            mark = "[*] " if d.fix is not None and d.fix.safe else ""
+            mark = "[*] " if d.fix is not None and (unsafe or d.fix.safe) else ""
             rows.append((f"{pos.line}:{pos.column}", f"{d.code} {mark}{d.severity.value}: "
                                                      f"{_printable(d.message)}"))
         width = max(len(where) for where, _ in rows)

@@ -18,10 +18,11 @@ cached check), `pathspec` only for per-file ignores and exclusions.
 from __future__ import annotations
 
 from scriptc.config.load import ConfigFile, Resolver, build_settings, find_config, load_config
-from scriptc.config.model import (ImplementationError, RobotProfile, Settings, UserFunction,
-                                  UserRule, import_implementation)
+from scriptc.config.model import (ImplementationError, RobotProfile, RuleSelection, Settings,
+                                  UserFunction, UserRule, import_implementation)
 
 __all__ = [
-    "ConfigFile", "ImplementationError", "Resolver", "RobotProfile", "Settings", "UserFunction",
-    "UserRule", "build_settings", "find_config", "import_implementation", "load_config",
+    "ConfigFile", "ImplementationError", "Resolver", "RobotProfile", "RuleSelection", "Settings",
+    "UserFunction", "UserRule", "build_settings", "find_config", "import_implementation",
+    "load_config",
 ]

@@ -17,8 +17,8 @@ import os
 import re
 from typing import Any, NamedTuple
 
-from scriptc.config.model import (ALL, ROBOT_KEYS, SEVERITIES, RobotProfile, Settings,
-                                  UserFunction, UserRule)
+from scriptc.config.model import (ALL, ROBOT_KEYS, SEVERITIES, RobotProfile, RuleSelection,
+                                  Settings, UserFunction, UserRule)
 from scriptc.diagnostics.model import Diagnostic, diagnostic
 from scriptc.language import is_name
 from scriptc.source import SourceFile, Span
@@ -306,15 +306,18 @@ def build_settings(table: dict[str, Any], *, path: str | None = None, root: str 
 class Resolver:
     """The configuration of each file of a run, each folder searched and each configuration
     file read once. `config` forces one file for all (`--config`); `isolated` uses none
-    (`--isolated`)."""
+    (`--isolated`); `selection` is the command line's rule selection, laid over every
+    configuration (`--select`, `--extend-select`, `--ignore`)."""
 
     def __init__(self, cache: Any = None, *, config: str | None = None,
-                 isolated: bool = False) -> None:
+                 isolated: bool = False, selection: RuleSelection | None = None) -> None:
         self.cache = cache
         self.forced = os.path.abspath(config) if config else None
         self.isolated = isolated
+        self.selection = selection
         self._by_folder: dict[str, str | None] = {}
         self._files: dict[str, ConfigFile] = {}
+        self._selected: dict[str | None, Settings] = {}
         self.default = Settings()
 
     def config_path(self, folder: str) -> str | None:
@@ -351,7 +354,13 @@ class Resolver:
 
     def for_folder(self, folder: str) -> Settings:
         path = self.config_path(folder)
-        return self.default if path is None else self.file(path).settings
+        settings = self.default if path is None else self.file(path).settings
+        if self.selection is None:
+            return settings
+        selected = self._selected.get(path)
+        if selected is None:
+            selected = self._selected[path] = settings.with_selection(self.selection)
+        return selected
 
     def for_file(self, path: str) -> Settings:
         """The settings of the file `path` (`-` and names of stdin: the working folder's)."""

@@ -57,6 +57,37 @@ def _best(selectors: Iterable[str], code: str, name: str) -> int | None:
     return best
 
 
+def _decide(selects: Iterable[str], ignores: Iterable[str], code: str, name: str
+            ) -> bool | None:
+    """Whether one layer of selectors reports `code`: the more specific selector wins and
+    `ignore` wins a tie; None when the layer names the code in neither list."""
+    chosen = _best(selects, code, name)
+    dropped = _best(ignores, code, name)
+    if chosen is None and dropped is None:
+        return None
+    return chosen is not None and (dropped is None or chosen > dropped)
+
+
+class RuleSelection(NamedTuple):
+    """A layer of rule selection over the configuration's (`scriptc lint --select`,
+    `--extend-select`, `--ignore`), as ruff layers its command line over its configuration:
+    `select` (when given) starts again from nothing, so the configuration's `select` and
+    `ignore` no longer apply; `extend_select` adds codes and `ignore` drops codes over
+    whatever the layer below reports. Within the layer, the more specific selector wins and
+    `ignore` wins a tie. Errors stay reported whatever it says."""
+
+    select: tuple[str, ...] | None = None
+    extend_select: tuple[str, ...] = ()
+    ignore: tuple[str, ...] = ()
+
+    def reports(self, below: bool, code: str, name: str) -> bool:
+        """Whether `code` is reported, given whether the layer below reports it."""
+        if self.select is not None:
+            return bool(_decide((*self.select, *self.extend_select), self.ignore, code, name))
+        decided = _decide(self.extend_select, self.ignore, code, name)
+        return below if decided is None else decided
+
+
 # ---------------------------------------------------------------------------------------------
 # The parts of a configuration
 
@@ -162,7 +193,8 @@ class Settings:
     """
 
     FIELDS = ("path", "root", "digest", "select", "ignore", "per_file_ignores", "severity",
-              "exclude", "respect_gitignore", "audio_root", "robot", "functions", "rules")
+              "exclude", "respect_gitignore", "audio_root", "robot", "functions", "rules",
+              "selection")
 
     def __init__(self, path: str | None = None, root: str = ".", digest: str = "",
                  select: tuple[str, ...] = (ALL,), ignore: tuple[str, ...] = (),
@@ -170,7 +202,8 @@ class Settings:
                  severity: tuple[tuple[str, str], ...] = (), exclude: tuple[str, ...] = (),
                  respect_gitignore: bool = True, audio_root: str = ".",
                  robot: RobotProfile = RobotProfile(), functions: tuple[UserFunction, ...] = (),
-                 rules: tuple[UserRule, ...] = ()) -> None:
+                 rules: tuple[UserRule, ...] = (),
+                 selection: RuleSelection | None = None) -> None:
         self.path = path
         self.root = root
         self.digest = digest
@@ -184,6 +217,14 @@ class Settings:
         self.robot = robot
         self.functions = functions
         self.rules = rules
+        # The command line's layer of rule selection (`scriptc lint --select ...`), if any.
+        self.selection = selection
+
+    def with_selection(self, selection: RuleSelection | None) -> Settings:
+        """These settings with the command line's rule selection over them."""
+        values = {name: getattr(self, name) for name in self.FIELDS}
+        values["selection"] = selection
+        return Settings(**values)
 
     def _values(self) -> tuple[Any, ...]:
         return tuple(getattr(self, name) for name in self.FIELDS)
@@ -227,9 +268,9 @@ class Settings:
             if c.severity is Severity.ERROR:
                 table[c.code] = (True, None)
                 continue
-            chosen = _best(self.select, c.code, c.name)
-            dropped = _best(self.ignore, c.code, c.name)
-            reported = chosen is not None and (dropped is None or chosen > dropped)
+            reported = bool(_decide(self.select, self.ignore, c.code, c.name))
+            if self.selection is not None:
+                reported = self.selection.reports(reported, c.code, c.name)
             best, severity = None, None
             for selector, value in overrides:
                 s = selector_specificity(selector, c.code, c.name)
@@ -237,6 +278,14 @@ class Settings:
                     best, severity = s, value
             table[c.code] = (reported, severity if severity is not c.severity else None)
         return table
+
+    def policy(self) -> dict[str, tuple[bool, Severity]]:
+        """code -> (whether it is reported, the severity it is reported with), for every code
+        of the registry, before per-file ignores (`scriptc show-settings`)."""
+        from scriptc.diagnostics.codes import all_codes
+
+        table = self._table
+        return {c.code: (table[c.code][0], table[c.code][1] or c.severity) for c in all_codes()}
 
     @cached_property
     def _per_file(self) -> list[tuple[Any, tuple[str, ...]]]:
@@ -279,7 +328,7 @@ class Settings:
         """What is reported of `diagnostics` (of the file `path`): unselected and ignored
         warnings and infos dropped, severities overridden. Errors pass unchanged."""
         if self.select == (ALL,) and not self.ignore and not self.severity and \
-                not self.per_file_ignores:
+                not self.per_file_ignores and self.selection is None:
             return list(diagnostics)
         table = self._table
         here = self.ignored_here(path)

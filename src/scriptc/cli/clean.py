@@ -1,0 +1,101 @@
+"""`scriptc clean [PATH]`: remove the cache of the project PATH is in (default: the working
+folder), the folder `scriptc lint PATH` uses (`--cache-dir`, `SCRIPTC_CACHE_DIR`, else
+`.scriptc_cache` in the project's root), and any other `.scriptc_cache` folder below PATH (the
+caches of sub-projects with their own configuration), as `ruff clean` does for its caches.
+
+Only a folder that scriptc made is removed: one holding the `CACHEDIR.TAG` scriptc writes. A
+`--cache-dir` pointing at anything else is refused, never emptied. Each folder removed is
+named on stderr with what it held. Exit status: 0 (also when there was nothing to remove), 2 (a
+folder that cannot be removed, or is not a cache of scriptc).
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+
+import click
+
+from scriptc.cache import CACHE_DIR_NAME, CACHEDIR_TAG
+from scriptc.cli._shell import CliError, write
+
+# Folders never searched for sub-projects' caches.
+_SKIPPED = frozenset({".git", ".hg", ".svn", ".venv", "node_modules", "__pycache__"})
+
+
+def is_scriptc_cache(folder: str) -> bool:
+    """Whether `folder` is a cache scriptc made (its CACHEDIR.TAG is scriptc's)."""
+    try:
+        with open(os.path.join(folder, "CACHEDIR.TAG"), encoding="utf-8") as f:
+            return f.read() == CACHEDIR_TAG
+    except (OSError, UnicodeDecodeError):
+        return False
+
+
+def _size(folder: str) -> tuple[int, int]:
+    """How many files a folder holds (recursively), and their bytes."""
+    files = size = 0
+    for root, _dirs, names in os.walk(folder):
+        for name in names:
+            files += 1
+            try:
+                size += os.lstat(os.path.join(root, name)).st_size
+            except OSError:
+                pass
+    return files, size
+
+
+def _human(size: int) -> str:
+    for unit in ("bytes", "KB", "MB", "GB"):
+        if size < 1024 or unit == "GB":
+            return f"{size} {unit}" if unit == "bytes" else f"{size:.1f} {unit}"
+        size /= 1024
+    return f"{size} bytes"  # pragma: no cover - the loop returns
+
+
+def caches_below(path: str) -> list[str]:
+    """The `.scriptc_cache` folders below `path` (links not followed)."""
+    found = []
+    for root, dirs, _names in os.walk(path):
+        if CACHE_DIR_NAME in dirs:
+            found.append(os.path.join(root, CACHE_DIR_NAME))
+        dirs[:] = sorted(d for d in dirs if d not in _SKIPPED and d != CACHE_DIR_NAME
+                         and not os.path.islink(os.path.join(root, d)))
+    return found
+
+
+@click.command("clean")
+@click.argument("path", default=".", type=click.Path(exists=True, file_okay=False))
+@click.option("--cache-dir", metavar="DIR", envvar="SCRIPTC_CACHE_DIR",
+              type=click.Path(file_okay=False),
+              help="The cache folder to remove, as given to `lint --cache-dir`.")
+@click.pass_context
+def command(ctx: click.Context, path: str, cache_dir: str | None) -> None:
+    """Remove the cache folder of the project PATH is in (default: here), and the caches of
+    sub-projects below PATH."""
+    from scriptc.cache import default_cache_dir
+
+    main = cache_dir or default_cache_dir(path)
+    candidates = [main, *caches_below(path)]
+    removed = refused = 0
+    seen: set[str] = set()
+    for folder in candidates:
+        real = os.path.realpath(folder)
+        if real in seen or not os.path.isdir(folder):
+            continue
+        seen.add(real)
+        if not is_scriptc_cache(folder):
+            write(f"error: `{folder}` is not a cache of scriptc (it has no CACHEDIR.TAG "
+                  "written by scriptc): not removed\n", err=True)
+            refused += 1
+            continue
+        files, size = _size(folder)
+        try:
+            shutil.rmtree(folder)
+        except OSError as exc:
+            raise CliError(f"cannot remove `{folder}`: {exc.strerror or exc}") from None
+        write(f"removed `{folder}` ({files} files, {_human(size)})\n", err=True)
+        removed += 1
+    if not removed and not refused:
+        write(f"nothing to remove: no cache at `{main}`\n", err=True)
+    ctx.exit(2 if refused else 0)
