@@ -95,8 +95,13 @@ def test_an_interrupt_exits_130_quietly(files: Path, monkeypatch) -> None:
         raise KeyboardInterrupt
 
     monkeypatch.setattr("scriptc.driver.analyze_script", interrupted)
-    result = run("lint", "clean.script")
+    result = run("compile", "clean.script")
     assert (result.exit_code, result.stderr) == (130, "error: interrupted\n")
+    # lint says how far it got.
+    linted = run("lint", "clean.script")
+    assert (linted.exit_code, linted.stderr) == (
+        130, "error: interrupted (Ctrl-C) while linting, 0 of 1 file analysed: nothing was "
+             "reported, and no file was left half-written\n")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -150,11 +155,63 @@ def test_lint_a_path_that_does_not_exist_exits_2(files: Path) -> None:
     assert result.stdout == ""
 
 
+def test_every_path_is_reported_beside_the_missing_ones(files: Path) -> None:
+    result = run("lint", "nothere.script", "broken.script", "gone/", "--format", "json")
+    assert result.exit_code == 2
+    assert result.stderr == ("error: `nothere.script` does not exist\n"
+                             "error: `gone` does not exist\n")
+    assert [r["code"] for r in json.loads(result.stdout)] == ["L003"]
+    (files / "messy.script").write_text("[m]\n[goal:g]\n[action]\n[b##blk_terminus]   \n",
+                                        encoding="utf-8")
+    formatted = run("fmt", "nothere.script", "messy.script")
+    assert formatted.exit_code == 2
+    assert formatted.stderr == ("error: `nothere.script` does not exist\n"
+                                "reformatted messy.script\n")
+    assert (files / "messy.script").read_text(encoding="utf-8").endswith("[b##blk_terminus]\n")
+
+
+def without_root_powers() -> None:
+    """A child's start: even as root, file permissions apply to it (the capabilities that
+    override them are dropped from its bounding set, so the program it runs lacks them)."""
+    if os.geteuid() != 0:
+        return
+    import ctypes
+
+    libc = ctypes.CDLL(None, use_errno=True)
+    PR_CAPBSET_DROP, CAP_DAC_OVERRIDE, CAP_DAC_READ_SEARCH = 24, 1, 2
+    for capability in (CAP_DAC_OVERRIDE, CAP_DAC_READ_SEARCH):
+        if libc.prctl(PR_CAPBSET_DROP, capability, 0, 0, 0) != 0:
+            raise OSError(ctypes.get_errno(), "prctl(PR_CAPBSET_DROP)")
+
+
+def test_a_folder_that_cannot_be_read_is_an_error(files: Path) -> None:
+    locked = files / "locked"
+    locked.mkdir()
+    (locked / "bad.script").write_text(BROKEN, encoding="utf-8")
+    locked.chmod(0)
+    try:
+        result = subprocess.run([sys.executable, "-m", "scriptc", "lint", ".", "--format",
+                                 "json"], capture_output=True, cwd=files, timeout=60,
+                                preexec_fn=without_root_powers)
+        formatted = subprocess.run([sys.executable, "-m", "scriptc", "fmt", "--check", "."],
+                                   capture_output=True, cwd=files, timeout=60,
+                                   preexec_fn=without_root_powers)
+    finally:
+        locked.chmod(0o755)
+    message = (b"error: cannot read the folder `locked`: permission denied; the scripts in it "
+               b"were not checked (make it readable, or exclude it in the configuration)\n")
+    assert result.returncode == 2
+    assert result.stderr.startswith(message)
+    assert b"checked 3 files: 1 error" in result.stderr  # the readable ones are reported
+    assert {r["file"] for r in json.loads(result.stdout)} == {"broken.script", "warns.script"}
+    assert formatted.returncode == 2 and formatted.stderr.startswith(message)
+
+
 def test_lint_an_unreadable_file_exits_2_and_still_reports_the_others(files: Path) -> None:
     os.symlink(files / "gone.script", files / "dangling.script")
     result = run("lint", ".")
     assert result.exit_code == 2
-    assert "error: `./dangling.script` does not exist" in result.stderr
+    assert "error: `dangling.script` does not exist" in result.stderr
     assert "error[L003]" in result.stdout
 
 
@@ -338,11 +395,12 @@ def test_compile_replaces_an_existing_output_keeping_its_mode(files: Path) -> No
 
 
 def test_compile_refuses_to_overwrite_its_input(files: Path) -> None:
-    (files / "script.json").write_text(CLEAN, encoding="utf-8")
-    result = run("compile", "script.json")  # the default output is the input itself
+    (files / "script.scb").write_text(CLEAN, encoding="utf-8")
+    # The default output is the input itself.
+    result = run("compile", "script.scb", "--emit", "bytecode")
     assert result.exit_code == 2
     assert "refusing to overwrite" in result.stderr
-    assert (files / "script.json").read_text(encoding="utf-8") == CLEAN
+    assert (files / "script.scb").read_text(encoding="utf-8") == CLEAN
     assert run("compile", "clean.script", "-o", "./clean.script").exit_code == 2
     assert (files / "clean.script").read_text(encoding="utf-8") == CLEAN
 
@@ -403,10 +461,47 @@ def test_check_errors_and_formats(thesis: Path) -> None:
 
 
 def test_check_bad_paths_exit_2(thesis: Path) -> None:
-    assert run("check", "missing.json").exit_code == 2
-    (thesis / "folder").mkdir()
-    result = run("check", "folder")
-    assert result.exit_code == 2 and "is a directory" in result.stderr
+    missing = run("check", "missing.json", "test_act.json", "--format", "json")
+    assert (missing.exit_code, missing.stderr) == (2, "error: `missing.json` does not exist\n")
+    # The file named beside the missing one is still checked and reported.
+    assert {r["file"] for r in json.loads(missing.stdout)} == {"test_act.json"}
+
+
+def test_check_a_folder_checks_every_json_script_under_it(thesis: Path) -> None:
+    folder = thesis / "repo"
+    (folder / "deep").mkdir(parents=True)
+    (folder / "a.json").write_bytes((DATA / "test_act.json").read_bytes())
+    (folder / "deep" / "broken.json").write_text('{"activityname": "b", "goal0": ',
+                                                 encoding="utf-8")
+    # Not scripts: a scenario, a list, a package description; a hidden folder is skipped.
+    (folder / "scenario.json").write_text('{"updates": []}', encoding="utf-8")
+    (folder / "deep" / "list.json").write_text("[1, 2]", encoding="utf-8")
+    (folder / "deep" / "not-json.json").write_text("{oops", encoding="utf-8")
+    (folder / ".hidden").mkdir()
+    (folder / ".hidden" / "h.json").write_bytes((DATA / "test_act.json").read_bytes())
+    (folder / "x.script").write_text(BROKEN, encoding="utf-8")
+    result = run("check", "repo", "--format", "json")
+    assert result.exit_code == 1
+    files = sorted({Path(r["file"]).as_posix() for r in json.loads(result.stdout)})
+    assert files == ["repo/a.json", "repo/deep/broken.json"]
+    assert "checked 2 files:" in result.stderr
+    empty = thesis / "empty"
+    empty.mkdir()
+    (empty / "scenario.json").write_text('{"updates": []}', encoding="utf-8")
+    nothing = run("check", "empty")
+    assert (nothing.exit_code, nothing.stderr) == (
+        0, "warning: no script files found under the given paths\n")
+
+
+def test_compile_refuses_thesis_json_and_says_what_reads_it(thesis: Path) -> None:
+    before = sorted(p.name for p in thesis.iterdir())
+    result = run("compile", "test_act.json", "-o", "out.json")
+    assert (result.exit_code, result.stderr) == (
+        2, "error: `test_act.json` is thesis JSON, not script syntax: `scriptc check "
+           "test_act.json` checks it, `scriptc decompile test_act.json` turns it into a script\n")
+    piped = run("compile", "-", "--stdin-filename", "mine.JSON", input=b"{}")
+    assert piped.exit_code == 2 and "`scriptc check mine.JSON`" in piped.stderr
+    assert sorted(p.name for p in thesis.iterdir()) == before
 
 
 def test_check_invalid_utf8(thesis: Path) -> None:

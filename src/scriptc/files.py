@@ -21,6 +21,8 @@ import os
 from collections.abc import Callable
 from typing import Any
 
+from scriptc.paths import repository_root, shown_path
+
 SCRIPT_SUFFIX = ".script"
 
 # A compiled .gitignore: (absolute folder with a trailing separator, GitIgnoreSpec).
@@ -47,19 +49,6 @@ def _read_ignore_file(path: str) -> Any | None:
         return None
 
 
-def repository_root(folder: str) -> str | None:
-    """The nearest folder at or above `folder` holding `.git` (a folder, or a file for a
-    worktree or submodule), or None."""
-    folder = os.path.abspath(folder)
-    while True:
-        if os.path.exists(os.path.join(folder, ".git")):
-            return folder
-        parent = os.path.dirname(folder)
-        if parent == folder:
-            return None
-        folder = parent
-
-
 def _decide(specs: list[_Spec], path: str, is_dir: bool) -> bool:
     """Whether the .gitignore specs (shallowest first) ignore the absolute `path`."""
     for base, spec in reversed(specs):
@@ -74,14 +63,32 @@ def _decide(specs: list[_Spec], path: str, is_dir: bool) -> bool:
     return False
 
 
+def unreadable(shown: str, exc: OSError, folder: bool = True) -> str:
+    """The message for a folder (or an entry of one) the walk cannot read: its scripts would
+    be missed, so it is an error, as an unreadable file is."""
+    reason = "permission denied" if isinstance(exc, PermissionError) else \
+        (exc.strerror or str(exc)).lower()
+    if folder:
+        return (f"cannot read the folder `{shown_path(shown)}`: {reason}; the scripts in it "
+                "were not checked (make it readable, or exclude it in the configuration)")
+    return (f"cannot read `{shown_path(shown)}`: {reason}; it was not checked (make it "
+            "readable, or exclude it in the configuration)")
+
+
 class Walker:
     """Walks folders for scripts. `settings_for(folder)` gives the `Settings` of a folder
-    (exclusions and `respect-gitignore`); without it nothing but hidden files is skipped."""
+    (exclusions and `respect-gitignore`); without it nothing but hidden files is skipped.
+    `accept(path)`, when given, has the last word on a file with the suffix (`scriptc check
+    DIR` keeps the JSON files that are scripts). A folder that cannot be read is never skipped
+    silently: `problems` names it, and the walk goes on."""
 
     def __init__(self, settings_for: Callable[[str], Any] | None = None,
-                 suffix: str = SCRIPT_SUFFIX) -> None:
+                 suffix: str = SCRIPT_SUFFIX, accept: Callable[[str], bool] | None = None
+                 ) -> None:
         self.settings_for = settings_for
         self.suffix = suffix
+        self.accept = accept
+        self.problems: list[str] = []
         self._excludes: dict[int, tuple[str, Any] | None] = {}
 
     def _exclude(self, settings: Any) -> tuple[str, Any] | None:
@@ -139,7 +146,8 @@ class Walker:
                     here = [*inherited, (os.path.join(folder, ""), spec)]
             try:
                 entries = list(os.scandir(folder))
-            except OSError:
+            except OSError as exc:
+                self.problems.append(unreadable(shown, exc))
                 continue
             for entry in entries:
                 name = entry.name
@@ -151,7 +159,10 @@ class Walker:
                     is_dir = entry.is_dir(follow_symlinks=False)
                     if not is_dir and entry.is_symlink() and entry.is_dir():
                         continue
-                except OSError:
+                except FileNotFoundError:
+                    continue  # removed while the folder was read: nothing left to check
+                except OSError as exc:
+                    self.problems.append(unreadable(os.path.join(shown, name), exc, False))
                     continue
                 if not is_dir and not name.endswith(self.suffix):
                     continue
@@ -162,7 +173,7 @@ class Walker:
                     continue
                 if is_dir:
                     stack.append((path, os.path.join(shown, name), here))
-                else:
+                elif self.accept is None or self.accept(path):
                     found.append(os.path.join(shown, name))
         found.sort()
         return found

@@ -14,6 +14,12 @@ the thread (MuJoCo's `mj_step` over an hour of physics ignores Ctrl-C until it r
   runs in C for long must be cut into chunks short enough for the response time wanted (half a
   second), with a `check()` between them.
 - `request()` records a request without a signal (tests; a parent stopping its work).
+- `deferred()` (a context manager, around a step that must not be cut: a file being put in
+  place by `scriptc.writing`, worker processes being started) holds Ctrl-C and SIGTERM back
+  at the system's level; one that arrives meanwhile is delivered as the block ends. Work whose
+  every such step is deferred needs no safe points: `scriptc lint` lets Ctrl-C raise
+  `KeyboardInterrupt` wherever it falls (it stops at once, even inside one large file), and
+  nothing is left half-written.
 
 Whoever catches `Interrupted` finishes cleanly (closes what it writes, says how far it got) and
 exits with `EXIT_STATUS`, 130 (128 + SIGINT), what shells report for a command stopped by
@@ -78,3 +84,21 @@ def catching() -> Iterator[None]:
         if previous is not None:
             signal.signal(signal.SIGINT, previous)
         _requested = False
+
+
+@contextmanager
+def deferred() -> Iterator[None]:
+    """Hold Ctrl-C (SIGINT) and SIGTERM back during the block (see the module's docstring):
+    they are blocked for the thread, so nothing runs for them until the block ends, and one
+    that arrived is delivered then. Only the main thread receives signals; elsewhere, and
+    where signals cannot be blocked, this does nothing. Never around a wait that only the user
+    can end (opening a FIFO that has no reader): Ctrl-C could not end it."""
+    if not hasattr(signal, "pthread_sigmask") or \
+            threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)

@@ -138,7 +138,9 @@ def main(argv: list[str] | None = None) -> None:
     args = sys.argv[1:] if argv is None else argv
     path = Path(args[0] if args else "docs/bytecode.md")
     text = path.read_text(encoding="utf-8")
-    path.write_text(update(text), encoding="utf-8", newline="\n")
+    from scriptc.writing import write_file
+
+    write_file(str(path), update(text))
 
 
 if __name__ == "__main__":

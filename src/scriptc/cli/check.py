@@ -1,7 +1,9 @@
-"""`scriptc check FILE.json...`: read thesis JSON and run the same checks as for scripts.
+"""`scriptc check PATH...`: read thesis JSON and run the same checks as for scripts.
 
-Diagnostics go to stdout in the chosen format; positions are in the JSON file. Folders are
-not searched (not every JSON file is a script). Exit status as for `lint`.
+PATH is a JSON file (read whatever its suffix), `-` for stdin, or a folder: every `.json` file
+under it that is a thesis script (`scriptc.driver.is_thesis_json`: not a scenario), walked as
+`lint` walks folders. Diagnostics go to stdout in the chosen format; positions are in the JSON
+file. Exit status as for `lint`.
 """
 
 from __future__ import annotations
@@ -17,5 +19,6 @@ from scriptc.cli._shell import format_option, report_paths, stdin_name_option
 @stdin_name_option
 @click.pass_context
 def command(ctx: click.Context, files: tuple[str, ...], format_: str, stdin_name: str) -> None:
-    """Check thesis JSON files (- for stdin)."""
+    """Check thesis JSON files: files, folders (every JSON script inside, recursively) or -
+    for stdin."""
     report_paths(ctx, files, "json", format_, stdin_name)

@@ -4,7 +4,8 @@ default) or to bytecode (`.scb`, with the source's lines in its span table).
 Without `-o` the output goes beside the input with the back end's suffix (`dance.script` ->
 `dance.json`); input from stdin (`-`) goes to stdout; `-o -` writes to stdout. The output is
 written only when the script has no error, atomically (a temporary file renamed over the
-target), and never over the input file itself. Diagnostics go to stderr as text.
+target), and never over the input file itself. Diagnostics go to stderr as text. A `.json`
+input is thesis JSON, which `check` and `decompile` read: compile refuses it and says so.
 """
 
 from __future__ import annotations
@@ -12,7 +13,8 @@ from __future__ import annotations
 import click
 
 from scriptc import driver
-from scriptc.cli._shell import load, refuse_overwriting_input, show, stdin_name_option, write_output
+from scriptc.cli._shell import (CliError, check_output, load, refuse_overwriting_input, show,
+                                stdin_name_option, write_output)
 
 
 @click.command("compile")
@@ -31,8 +33,13 @@ def command(ctx: click.Context, file: str, output: str | None, back_end: str,
     dance.json, dance.scb), or to stdout when FILE is -. Nothing is written when the script has errors,
     and never over FILE itself. Diagnostics go to stderr.
     """
+    named = stdin_name if file == "-" else file
+    if named.lower().endswith(".json"):
+        raise CliError(f"`{named}` is thesis JSON, not script syntax: `scriptc check {named}` "
+                       f"checks it, `scriptc decompile {named}` turns it into a script")
     output = output or driver.default_output(file, back_end)
     refuse_overwriting_input(file, output)
+    check_output(output)
     analysis = load(file, "script", stdin_name)
     show([analysis], err=True)
     if not analysis.ok:

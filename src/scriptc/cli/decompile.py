@@ -11,7 +11,8 @@ from __future__ import annotations
 import click
 
 from scriptc import driver
-from scriptc.cli._shell import load, refuse_overwriting_input, show, stdin_name_option, write_output
+from scriptc.cli._shell import (check_output, load, refuse_overwriting_input, show,
+                                stdin_name_option, write_output)
 
 
 @click.command("decompile")
@@ -27,6 +28,7 @@ def command(ctx: click.Context, file: str, output: str, stdin_name: str) -> None
     stderr.
     """
     refuse_overwriting_input(file, output)
+    check_output(output)
     analysis = load(file, "json", stdin_name)
     show([analysis], err=True)
     if analysis.script is None:

@@ -19,10 +19,9 @@ import re
 
 import click
 
-from scriptc import driver
-from scriptc.cli._shell import CliError, read_stdin, show, stdin_name_option, write, write_bytes
+from scriptc import driver, writing
+from scriptc.cli._shell import read_stdin, show, stdin_name_option, write, write_bytes
 
-_BOM = b"\xef\xbb\xbf"
 _LINES = re.compile(r"[^\r\n]*(?:\r\n|\r|\n)|[^\r\n]+$")
 
 
@@ -61,19 +60,21 @@ def command(ctx: click.Context, paths: tuple[str, ...], check: bool, show_diff: 
     """
     from scriptc.fmt import format_text
 
-    try:
-        from scriptc.config import Resolver
+    from scriptc.config import Resolver
+    from scriptc.paths import shown_path
 
-        # The same walk as `scriptc lint`: .gitignore and the configuration's exclusions.
-        files = driver.discover(paths, resolver=Resolver())
-    except driver.ReadError as exc:
-        raise CliError(str(exc)) from None
-    if not files:
+    # The same walk as `scriptc lint`: .gitignore and the configuration's exclusions; a path
+    # that does not exist or a folder that cannot be read is named, and the others go on.
+    files, missing = driver.discover(paths, resolver=Resolver())
+    for problem in missing:
+        write(f"error: {problem}\n", err=True)
+    if not files and not missing:
         write("warning: no script files found under the given paths\n", err=True)
     dry = check or show_diff
-    changed = refused = problems = 0
+    changed = refused = 0
+    problems = len(missing)
     for path in files:
-        name = stdin_name if path == "-" else path
+        name = shown_path(stdin_name if path == "-" else path)
         try:
             data = read_stdin() if path == "-" else driver.read_bytes(path)
         except driver.ReadError as exc:
@@ -94,7 +95,7 @@ def command(ctx: click.Context, paths: tuple[str, ...], check: bool, show_diff: 
                       err=True)
                 refused += 1
             continue
-        new = (_BOM if data.startswith(_BOM) else b"") + result.text.encode("utf-8")
+        new = writing.encode_like(result.text, data)
         if new == data:
             if path == "-" and not dry:
                 write_bytes(data)
@@ -110,9 +111,9 @@ def command(ctx: click.Context, paths: tuple[str, ...], check: bool, show_diff: 
             write_bytes(new)
             continue
         try:
-            driver.write_atomic(path, new)
-        except OSError as exc:
-            write(f"error: cannot write `{path}`: {exc.strerror or exc}\n", err=True)
+            writing.write_file(path, new)
+        except writing.WriteError as exc:
+            write(f"error: {exc}: it was not reformatted\n", err=True)
             problems += 1
             continue
         write(f"reformatted {name}\n", err=True)

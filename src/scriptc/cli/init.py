@@ -25,6 +25,7 @@ import click
 
 from scriptc.cli._shell import CliError, write
 from scriptc.provenance import PLACEHOLDER, Provenance, provenance
+from scriptc.writing import WriteError, write_file
 
 CONFIG = """\
 # The configuration of this activity repository, read by every `scriptc` command run in it
@@ -198,7 +199,8 @@ FILES: tuple[tuple[str, str | Callable[[Provenance], str]], ...] = (
 def scaffold(folder: str, origin: Provenance | None = None) -> tuple[list[str], list[str]]:
     """Write the files of a new activity repository into `folder` (made when missing), never
     over an existing file: the paths written and the paths skipped. `origin` is where the
-    scriptc the workflow installs comes from (default: the running one's). Raises OSError."""
+    scriptc the workflow installs comes from (default: the running one's). Raises OSError (a
+    folder that cannot be made) or WriteError (a file that cannot be written)."""
     origin = origin if origin is not None else provenance()
     os.makedirs(folder, exist_ok=True)
     written, skipped = [], []
@@ -209,10 +211,9 @@ def scaffold(folder: str, origin: Provenance | None = None) -> tuple[list[str], 
             skipped.append(name)
             continue
         os.makedirs(os.path.dirname(path), exist_ok=True)
-        # "x": created here or not at all, even if another process made it meanwhile.
+        # Created whole or not at all, and never over a file another process made meanwhile.
         try:
-            with open(path, "x", encoding="utf-8", newline="\n") as f:
-                f.write(text)
+            write_file(path, text, exclusive=True)
         except FileExistsError:
             skipped.append(name)
             continue
@@ -230,6 +231,8 @@ def command(folder: str) -> None:
     origin = provenance()
     try:
         written, skipped = scaffold(folder, origin)
+    except WriteError as exc:
+        raise CliError(str(exc)) from None
     except OSError as exc:
         raise CliError(f"cannot write in `{folder}`: {exc.strerror or exc}") from None
     lines = [f"created {name}" for name in written]

@@ -24,7 +24,7 @@ import click
 
 from scriptc import driver, interrupt
 from scriptc.profile import profile_from_settings
-from scriptc.cli._shell import CliError, load, show, write, write_bytes, write_output
+from scriptc.cli._shell import CliError, check_output, load, show, write, write_bytes, write_output
 
 DEFAULT_LIMIT_MS = 3_600_000
 
@@ -173,6 +173,10 @@ def command(ctx: click.Context, files: tuple[str, ...], world: str | None, until
             raise CliError("--plot needs matplotlib, which is not installed here; install it "
                            "into scriptc's environment with\n  "
                            + extra_install_command("plot", ["matplotlib"]))
+    # Where the trace and the picture go is checked before the run, not after it.
+    for output in (trace_path, plot_path):
+        if output is not None:
+            check_output(output)
     scenario = None
     if world is not None:
         try:
@@ -217,16 +221,27 @@ def command(ctx: click.Context, files: tuple[str, ...], world: str | None, until
         result = session.run(until if until is not None else DEFAULT_LIMIT_MS)
     interrupted = result.outcome == "interrupted"
     capped = until is None and result.outcome == "until"
+    # A file that cannot be written at the end (a full disk) is reported after the summary,
+    # which is never lost (exit 2).
+    unwritten: list[str] = []
+    shown_path = None if trace_path in (None, "-") else trace_path
     if trace_path is not None:
-        write_output(trace_path, trace.text())
+        try:
+            write_output(trace_path, trace.text())
+        except CliError as exc:
+            unwritten.append(exc.format_message())
+            shown_path = None
     if plot_path is not None and interrupted:
         write(f"note: interrupted: the picture `{plot_path}` was not drawn\n", err=True)
     elif plot_path is not None:
         from scriptc.runtime.plot import plot_run
+        from scriptc.writing import WriteError
 
-        plot_run(trace.events, plot_path, recorder.samples, scenario)
+        try:
+            plot_run(trace.events, plot_path, recorder.samples, scenario)
+        except WriteError as exc:
+            unwritten.append(str(exc))
     to_stderr = trace_path == "-"
-    shown_path = None if trace_path in (None, "-") else trace_path
     if as_json:
         text = summary_json(result, shown_path, capped)
         if to_stderr:
@@ -235,6 +250,9 @@ def command(ctx: click.Context, files: tuple[str, ...], world: str | None, until
             write_bytes(text.encode("utf-8"))
     else:
         write(summary_text(result, shown_path, capped), err=to_stderr)
+    if unwritten:
+        write("".join(f"error: {message}\n" for message in unwritten), err=True)
+        ctx.exit(2)
     if interrupted:
         ctx.exit(interrupt.EXIT_STATUS)
     ctx.exit(1 if result.outcome == "error" else 0)

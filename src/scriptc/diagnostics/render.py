@@ -10,9 +10,11 @@ its `diagnostics` (in the order to show them), and returns the whole output as a
 - `render_github` GitHub Actions workflow commands (`::error file=...::message`).
 
 Positions shown anywhere are 1-based lines and columns counted in code points; end columns
-are exclusive (the column just after the span), as in SARIF. This module imports nothing
-beyond the standard library unless colour is asked for (`rich`, then): it sits on the path of
-`scriptc lint`, whose cold start is budgeted.
+are exclusive (the column just after the span), as in SARIF. Files are named as the driver
+named them (`scriptc.paths.shown_path`) in text and JSON, and relative to the repository's
+root (`scriptc.paths.repository_path`) in SARIF and GitHub's format. This module imports
+nothing beyond the standard library unless colour is asked for (`rich`, then): it sits on the
+path of `scriptc lint`, whose cold start is budgeted.
 """
 
 from __future__ import annotations
@@ -21,6 +23,7 @@ from collections.abc import Callable, Sequence
 from typing import Any, Protocol
 
 from scriptc.diagnostics.model import Diagnostic, Severity
+from scriptc.paths import repository_path, repository_root
 from scriptc.source import SourceFile, Span
 
 
@@ -324,30 +327,18 @@ SARIF_SCHEMA = "https://json.schemastore.org/sarif-2.1.0.json"
 # `informationUri` is optional in SARIF and the project has no public address to give, so the
 # driver names itself and its version only.
 _SARIF_LEVEL = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "note"}
+# The base of relative artifact URIs: the repository's root (CodeQL's name for it).
+SRCROOT = "%SRCROOT%"
 
 
-def _relative(path: str) -> str | None:
-    """A shown path relative to the working folder with forward slashes, or None for an
-    absolute path outside it (CI services want paths relative to the checkout)."""
-    import os
-
-    if os.path.isabs(path):
-        try:
-            path = os.path.relpath(path)
-        except ValueError:  # another drive on Windows
-            return None
-        if path == ".." or path.startswith(".." + os.sep):
-            return None
-    return path.replace(os.sep, "/").replace("\\", "/")
-
-
-def artifact_uri(path: str) -> str:
-    """A SARIF artifact URI for a shown path: relative (percent-encoded, forward slashes)
-    when it is inside the working folder, a `file://` URI otherwise."""
+def artifact_uri(path: str, roots: dict | None = None) -> str:
+    """A SARIF artifact URI for a file: relative to the repository's root (percent-encoded,
+    forward slashes: `scriptc.paths.repository_path`, what code scanning resolves), a
+    `file://` URI for a file outside it."""
     from pathlib import Path
     from urllib.parse import quote
 
-    relative = _relative(path)
+    relative = repository_path(path, roots)
     return Path(path).absolute().as_uri() if relative is None else quote(relative, safe="/")
 
 
@@ -392,6 +383,8 @@ def _sarif_rule(code: str) -> dict[str, Any]:
 
 def render_sarif(results: Sequence[Any]) -> str:
     import json
+    import os
+    from pathlib import Path
 
     from scriptc import __version__
 
@@ -399,12 +392,17 @@ def render_sarif(results: Sequence[Any]) -> str:
     codes = sorted({d.code for _source, ds in pairs for d in ds})
     index = {code: i for i, code in enumerate(codes)}
     sarif_results = []
+    roots: dict = {}
     for source, diagnostics in pairs:
-        uri = artifact_uri(source.path)
+        uri = artifact_uri(source.path, roots)
+        # A relative URI is relative to the repository's root, which the log names (as
+        # CodeQL's logs do); an absolute one stands alone.
+        artifact = {"uri": uri, "uriBaseId": SRCROOT} if not uri.startswith("file:") else \
+            {"uri": uri}
 
         def location(span: Span, message: str | None = None) -> dict[str, Any]:
             loc: dict[str, Any] = {"physicalLocation": {
-                "artifactLocation": {"uri": uri}, "region": _sarif_region(source, span)}}
+                "artifactLocation": artifact, "region": _sarif_region(source, span)}}
             if message is not None:
                 loc["message"] = {"text": message}
             return loc
@@ -427,7 +425,7 @@ def render_sarif(results: Sequence[Any]) -> str:
                 result["fixes"] = [{
                     "description": {"text": d.fix.message},
                     "artifactChanges": [{
-                        "artifactLocation": {"uri": uri},
+                        "artifactLocation": artifact,
                         "replacements": [{"deletedRegion": _sarif_region(source, e.span),
                                           "insertedContent": {"text": e.new_text}}
                                          for e in d.fix.edits],
@@ -455,6 +453,9 @@ def render_sarif(results: Sequence[Any]) -> str:
             "results": sarif_results,
         }],
     }
+    base = repository_root(".") or os.getcwd()
+    log["runs"][0]["originalUriBaseIds"] = {
+        SRCROOT: {"uri": Path(base).absolute().as_uri().rstrip("/") + "/"}}
     return json.dumps(log, indent=2, ensure_ascii=False) + "\n"
 
 
@@ -475,9 +476,12 @@ def _escape_property(text: str) -> str:
 
 
 def render_github(results: Sequence[Any]) -> str:
+    """Workflow commands; `file=` is relative to the repository's root (GitHub attaches an
+    annotation to a pull request's diff only so: `scriptc.paths.repository_path`)."""
     out = []
+    roots: dict = {}
     for source, diagnostics in _pairs(results):
-        path = _relative(source.path) or source.path
+        path = repository_path(source.path, roots) or source.path
         for d in diagnostics:
             r = _region(source, d.span)
             properties = ",".join(f"{key}={_escape_property(str(value))}" for key, value in (
