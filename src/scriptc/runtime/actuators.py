@@ -77,6 +77,10 @@ class Actuators:
         self.led: tuple[float, float, float] | None = None
         self.audio: str | None = None
         self.audio_paused = False
+        # A robot that plans a block's moves ahead (the safety governor): told of each block
+        # and of whatever else changes the wheels.
+        self._plan = getattr(robot, "plan_block", None)
+        self._plan_dropped = getattr(robot, "drop_plan", None)
 
     # -- blocks -----------------------------------------------------------------------------
 
@@ -98,6 +102,13 @@ class Actuators:
                 track.remaining = track.end - now
             else:
                 track.phase = "done"
+        if self._plan is not None:
+            # The governor sees the block's move track ahead (its ramps are centred on the
+            # changes): only while the script has the wheels.
+            if self.driving or self.frozen or self.hold:
+                self._plan_dropped(now)
+            else:
+                self._plan(now, instruction.moves, instruction.length)
         if not self.frozen:
             for track in self.tracks:
                 self._progress(track, now)
@@ -107,6 +118,8 @@ class Actuators:
         """Stop whatever runs (a script unloaded, a block replaced): running commands stop
         (`cmd_stop` with `cancelled`), the block is dropped without being consumed."""
         self._tick += 1
+        if self._plan_dropped is not None:
+            self._plan_dropped(now)
         for track in self.tracks:
             if track.phase == "run":
                 self._stop(track, now, cancelled=True)
@@ -201,6 +214,8 @@ class Actuators:
         return self.script_v if self.script_moving else ZERO
 
     def _apply_velocity(self, now: int, cause: str) -> None:
+        if cause != "script" and self._plan_dropped is not None:
+            self._plan_dropped(now)  # the operator, a freeze or a hold: not the block's plan
         v = self.effective_velocity()
         if v != self.applied:
             self.robot.set_velocity(now, *v)

@@ -34,15 +34,15 @@ from __future__ import annotations
 import math
 from collections import deque
 
+from scriptc.motion import ZERO, Shaper, limit_speed, rates_of, track_steps
 from scriptc.profile import DEFAULT_PROFILE, Profile
 from scriptc.runtime.clock import PRIO_UPDATE
-from scriptc.runtime.robots import Pose, Ramp
+from scriptc.runtime.robots import Pose
 
 # The governor's wake-up (a held LED onset's window frees) runs after every other event of its
 # millisecond, so it sees the LEDs the tracks set at that millisecond.
 PRIO_WAKE = PRIO_UPDATE + 1
 WINDOW_MS = 1000  # the flash limit's window, as K002's (check/safety.py)
-ZERO = (0.0, 0.0, 0.0)
 
 Rgb = tuple[float, float, float]
 
@@ -63,11 +63,11 @@ class Governor:
         self.trace = trace
         self.name = getattr(robot, "name", type(robot).__name__)
         p = profile
-        self.rates = (p.max_linear_acceleration, p.max_linear_acceleration,
-                      p.max_angular_acceleration)
+        self.rates = rates_of(p)
         self.commanded = ZERO  # the last command (script or operator)
-        self.target = ZERO  # the velocity the limits allow for it: the robot is at it or ramping
-        self.ramp: Ramp | None = None
+        # What the wheels get: the velocity the limits allow, ramped late or centred on the
+        # changes of a block's plan (scriptc/motion.py).
+        self.shaper = Shaper(self.rates)
         self.clamps = 0
         self.reasons: dict[str, int] = {}  # clamps by reason, in the order first met
         self._pending: int | None = None  # the instant whose command is still to be applied
@@ -95,23 +95,25 @@ class Governor:
 
     # -- velocity -----------------------------------------------------------------------------
 
+    @property
+    def target(self) -> tuple[float, float, float]:
+        """The velocity the robot is at or ramping to."""
+        return self.shaper.target
+
+    @property
+    def ramp(self):
+        """The ramp the robot follows (`motion.Ramp`), None when it is on its target."""
+        return self.shaper.ramp
+
     def velocity_at(self, t_ms: int) -> tuple[float, float, float]:
         """The velocity the robot has at `t_ms` (from the last applied command on)."""
-        return self.ramp.velocity(t_ms) if self.ramp is not None else self.target
+        return self.shaper.velocity(t_ms)
 
     def limit(self, v_x: float, v_y: float, v_theta: float,
               t_ms: int = 0) -> tuple[tuple[float, float, float], list[str]]:
         """The velocity the profile allows for a command at `t_ms`, and why it differs."""
         p = self.profile
-        reasons = []
-        speed = math.hypot(v_x, v_y)
-        if speed > p.max_linear_speed:
-            k = p.max_linear_speed / speed
-            v_x, v_y = v_x * k, v_y * k
-            reasons.append("speed")
-        if abs(v_theta) > p.max_angular_speed:
-            v_theta = math.copysign(p.max_angular_speed, v_theta)
-            reasons.append("angular-speed")
+        (v_x, v_y, v_theta), reasons = limit_speed((v_x, v_y, v_theta), p)
         if self.nearest is not None and (v_x or v_y):
             near = self.nearest(t_ms, self.robot.pose())
             if near is not None:
@@ -153,33 +155,74 @@ class Governor:
         if t is None:
             return
         self._pending = None
+        self._play(t)
         self.robot.advance(t)
         command = self.commanded
         target, reasons = self.limit(*command, t)
         new = command != self._last_command
         self._last_command = command
-        if target == self.target and not (new and reasons):
-            return
-        applied = self.velocity_at(t)
-        ramp = None
-        if target != self.target:
-            ramp = Ramp.between(t, applied, target, self.rates)
-            self.ramp, self.target = ramp, target
-            self.robot.set_velocity(t, *target, rates=self.rates)
-            if ramp is None:
-                applied = target
-            else:
-                if max(ramp.steps[:2]) > 1:
-                    reasons.append("acceleration")
-                if ramp.steps[2] > 1:
-                    reasons.append("angular-acceleration")
-        if reasons:
+        shaper = self.shaper
+        expected = shaper.expected_at(t)
+        if expected is not None and (target != expected or self._anticipation_held(t)):
+            shaper.drop()  # not what the plan expects: the changes are ramped late from now
+        applied = shaper.velocity(t)
+        ramped = shaper.late(t, target)
+        if ramped:
+            self.robot.set_velocity(t, *shaper.target, ramp=shaper.ramp)
+            if ramped.get(0, 0) > 1:
+                reasons.append("acceleration")
+            if ramped.get(1, 0) > 1:
+                reasons.append("angular-acceleration")
+        if reasons and (ramped or new):
             fields = {"reasons": reasons, "commanded": _velocity(command),
                       "applied": _velocity(applied)}
-            if ramp is not None:
-                fields["target"] = _velocity(target)
-                fields["ramp_ms"] = ramp.end - t
+            ramp_ms = max(ramped.values(), default=0)
+            if ramp_ms > 1:
+                fields["target"] = _velocity(shaper.target)
+                fields["ramp_ms"] = ramp_ms
             self._log(t, fields)
+
+    # -- the plan of a block: ramps centred on the changes known ahead -------------------------
+
+    def plan_block(self, t_ms: int, moves, length: int) -> None:
+        """The actuators issue a block at `t_ms` that lasts `length` ms: its move track
+        (`Move`s) is known ahead, so the motions whose ramps fit in the block are ramped centred
+        on their changes (docs/robot.md, "Acceleration"), the others late, command by command."""
+        self._due(t_ms)
+        steps = track_steps(((m.v_x, m.v_y, m.v_theta), m.wait_t, m.duration) for m in moves)
+        profile = self.profile
+        self.shaper.plan(t_ms, length, [(t, limit_speed(v, profile)[0]) for t, v in steps],
+                         limit_speed(self._last_command, profile)[0])
+
+    def drop_plan(self, t_ms: int) -> None:
+        """Something the plan could not know changes the wheels at `t_ms` (the operator, a
+        freeze, a rule's hold, the block dropped): no more centred ramps; the end of the
+        instant applies the command, late, from the velocity the robot has."""
+        self._due(t_ms)
+        self._play(t_ms)
+        self.shaper.drop()
+
+    def _play(self, t_ms: int) -> None:
+        """Start the centred ramps of the plan due by `t_ms`, each at its millisecond (the
+        robot brought there first); one that would bring the robot toward a person closer than
+        the limits allow drops the plan instead."""
+        shaper = self.shaper
+        while (planned := shaper.due(t_ms)) is not None:
+            self.robot.advance(planned.at)
+            if planned.group == 0 and self.nearest is not None:
+                v = (*planned.values, shaper.target[2])
+                if "human-distance" in self.limit(*v, planned.at)[1]:
+                    shaper.drop()
+                    return
+            shaper.start(planned)
+            self.robot.set_velocity(planned.at, *shaper.target, ramp=shaper.ramp)
+
+    def _anticipation_held(self, t_ms: int) -> bool:
+        """Whether the robot ramps ahead of a change (a centred ramp) toward a velocity the
+        people around it no longer allow."""
+        if self.nearest is None or self.shaper.anticipating[0] is None:
+            return False
+        return "human-distance" in self.limit(*self.shaper.target, t_ms)[1]
 
     def _log(self, t_ms: int, fields: dict) -> None:
         self.clamps += 1
@@ -191,6 +234,7 @@ class Governor:
     def advance(self, t_ms: int) -> None:
         if self._pending is not None and t_ms > self._pending:
             self.flush()
+        self._play(t_ms)
         self.robot.advance(t_ms)
 
     def pose(self) -> Pose:
@@ -207,13 +251,14 @@ class Governor:
         running, the session's end is a zero command) and the backend is stepped until it is at
         rest. Returns the millisecond it is at rest."""
         self.flush()
+        self._play(t_ms)
+        self.shaper.drop()  # a run cut at `until` cuts the block's plan too
         if self.target != ZERO:
             self._pending = t_ms
             self.commanded = ZERO
             self.flush()
         rest = max(t_ms, self.ramp.end if self.ramp is not None else t_ms)
         self.robot.advance(rest)
-        self.ramp = None
         return rest
 
     # -- LEDs ---------------------------------------------------------------------------------

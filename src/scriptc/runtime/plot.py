@@ -39,9 +39,9 @@ class PathRecorder:
             self.samples.append((step, p.x, p.y, p.theta))
 
     def set_velocity(self, t_ms: int, v_x: float, v_y: float, v_theta: float,
-                     rates: tuple[float, float, float] | None = None) -> None:
+                     ramp=None) -> None:
         self.advance(t_ms)
-        self.robot.set_velocity(t_ms, v_x, v_y, v_theta, rates=rates)
+        self.robot.set_velocity(t_ms, v_x, v_y, v_theta, ramp=ramp)
 
     def pose(self) -> Pose:
         return self.robot.pose()
