@@ -1,16 +1,25 @@
-"""Pictures of a run (`scriptc run --plot FILE.png|.svg`, docs/robot.md): the robot's trajectory
-seen from above with the scenario's people, objects and obstacles, and below it a timeline of
-the three tracks (move, led, audioout) with the instruction blocks, LED commands drawn in their
-own colour.
+"""Pictures of a run (`scriptc run --plot FILE.png|.svg`, docs/robot.md): the room seen from
+above, with the robot's path, its footprint and heading, and every person, object and obstacle
+the run knew, each labelled with its path over time; below it a timeline of the three tracks
+(move, led, audioout) with the instruction blocks, LED commands drawn in their own colour, and
+where the governor intervened.
+
+People and objects come from two places: the scenario's placed `entities` (a path in the world
+frame, drawn dashed from where they appear to where they are at the end) and the map updates
+of the run (`poses`: a distance and a bearing relative to the robot, as a sensor sends them;
+each turned into world coordinates with the robot's pose at that millisecond, so a scenario
+made of `updates` shows its people where the robot would have seen them).
 
 `PathRecorder` wraps a robot backend and samples its pose every `every_ms` of simulated time
 (the physics is stepped in those chunks: the same steps, so the same result; only `--plot`
-uses it). `plot_run` draws from the recorded path and the trace's events. matplotlib (the
-`plot` extra) is imported only inside `plot_run`, with the non-interactive Agg backend.
+uses it). `draw_run` makes the figure from the recorded path, the trace's events and the
+scenario; `plot_run` writes it. matplotlib (the `plot` extra) is imported only inside them,
+with the non-interactive Agg backend.
 """
 
 from __future__ import annotations
 
+import bisect
 import math
 
 from scriptc.runtime.robots import Pose
@@ -48,8 +57,77 @@ class PathRecorder:
 
 
 _TRACKS = ("move", "led", "audioout")
+# What each lane of the timeline shows: the track's name in the trace, and what it drives.
+_LANE_LABELS = {"move": "move\n(wheels)", "led": "led\n(LEDs)", "audioout": "audioout\n(speaker)"}
 _CLASS_STYLE = {"Human": ("o", "#d62728"), "Object": ("s", "#2ca02c"),
                 "Obstacle": ("X", "#555555")}
+_OTHER_STYLE = ("D", "#9467bd")
+# The map's classes that have a position (`poses` updates: positionrho, positiontheta).
+_POSITIONED = ("Human", "Object", "Obstacle")
+_ROBOT = "#1f77b4"
+# An entity's path shows the time of each point up to this many points, else of the ends.
+_TIMES_SHOWN = 8
+
+
+def footprint_radius() -> float:
+    """The radius of the robot's base in the MuJoCo model (`teo.xml`, geom `base`): what the
+    picture draws as the robot's footprint."""
+    from importlib import resources
+    from xml.etree import ElementTree
+
+    model = resources.files("scriptc.runtime.robots").joinpath("teo.xml").read_text("utf-8")
+    base = ElementTree.fromstring(model).find(".//geom[@name='base']")
+    return float(base.get("size").split()[0])
+
+
+def pose_at(samples, t_ms: int) -> tuple[float, float, float]:
+    """The robot's (x, y, theta) at `t_ms`, interpolated between the recorded samples (the
+    origin facing +x before any)."""
+    if not samples:
+        return 0.0, 0.0, 0.0
+    times = [s[0] for s in samples]
+    i = bisect.bisect_right(times, t_ms)
+    if i == 0:
+        return samples[0][1:]
+    if i == len(samples) or samples[i - 1][0] == t_ms:
+        return samples[i - 1][1:]
+    (t0, *a), (t1, *b) = samples[i - 1], samples[i]
+    f = (t_ms - t0) / (t1 - t0)
+    return tuple(p + f * (q - p) for p, q in zip(a, b))  # type: ignore[return-value]
+
+
+def map_positions(events, samples) -> tuple[dict[str, list[tuple[int, float, float]]], list[str]]:
+    """Where the map put each person, object and obstacle, in the world frame: for every
+    applied `poses` update, the entity's `positionrho` and `positiontheta` (relative to the
+    robot, as a sensor sends them; a message may carry one of the two, the other keeping its
+    value) turned into world coordinates with the robot's pose at that millisecond. Returns
+    `{objectid: [(t, x, y), ...]}` in time order, and the ids the map knew without a position
+    (only `tracking` updates, say)."""
+    polar: dict[str, dict[str, float]] = {}
+    paths: dict[str, list[tuple[int, float, float]]] = {}
+    known: list[str] = []
+    for e in events:
+        if e.get("event") != "update" or e.get("status") != "applied":
+            continue
+        objectid = e.get("objectid", "")
+        if objectid.partition("/")[0] not in _POSITIONED:
+            continue
+        if objectid not in known:
+            known.append(objectid)
+        value = e.get("value")
+        if e.get("attributename") != "poses" or not isinstance(value, dict):
+            continue
+        state = polar.setdefault(objectid, {})
+        for key in ("positionrho", "positiontheta"):
+            if isinstance(value.get(key), (int, float)):
+                state[key] = float(value[key])
+        if len(state) == 2:
+            x, y, theta = pose_at(samples, e["t"])
+            bearing = theta + state["positiontheta"]
+            paths.setdefault(objectid, []).append(
+                (e["t"], x + state["positionrho"] * math.cos(bearing),
+                 y + state["positionrho"] * math.sin(bearing)))
+    return paths, [objectid for objectid in known if objectid not in paths]
 
 
 def _intervals(events):
@@ -68,41 +146,77 @@ def _intervals(events):
     return out
 
 
-def plot_run(events: list[dict], path: str, samples=None, scenario=None) -> None:
-    """Draw the run into `path` (.png or .svg)."""
+def draw_run(events: list[dict], samples=None, scenario=None):
+    """The picture of a run, as a matplotlib Figure: above, the room seen from above (the
+    robot's path and footprint, every person, object and obstacle the run knew, each labelled
+    with its path over time); below, the timeline of the three tracks."""
     import matplotlib
 
     matplotlib.use("Agg")
     from matplotlib import pyplot as plt
-    from matplotlib.patches import Circle, FancyArrow
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Circle, FancyArrow, Patch
 
     end = max((max(e["t"], e.get("at_rest_ms", 0)) for e in events), default=0) or 1
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 9),
-                                      gridspec_kw={"height_ratios": [3, 1.3]})
-    # -- the trajectory from above -----------------------------------------------------------
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 10),
+                                      gridspec_kw={"height_ratios": [3, 1.5]})
+    # -- the room from above -----------------------------------------------------------------
     xs = [s[1] for s in samples] if samples else [0.0]
     ys = [s[2] for s in samples] if samples else [0.0]
-    top.plot(xs, ys, color="#1f77b4", lw=1.8, label="robot")
-    top.add_patch(Circle((xs[0], ys[0]), 0.22, fill=False, ls=":", color="#1f77b4"))
-    if samples:
-        t, x, y, th = samples[-1]
-        top.add_patch(Circle((x, y), 0.22, fill=False, color="#1f77b4"))
-        top.add_patch(FancyArrow(x, y, 0.3 * math.cos(th), 0.3 * math.sin(th), width=0.02,
-                                 color="#1f77b4", length_includes_head=True))
-    seen = set()
-    for entity in getattr(scenario, "entities", ()) or ():
-        marker, colour = _CLASS_STYLE.get(entity.cls, ("D", "#9467bd"))
-        x0, y0 = entity.position(entity.start)
-        x1, y1 = entity.position(end)
-        if (x0, y0) != (x1, y1):
-            top.plot([x0, x1], [y0, y1], ls="--", color=colour, lw=1)
+    radius = footprint_radius()
+    top.plot(xs, ys, color=_ROBOT, lw=1.8, label="robot's path")
+    top.add_patch(Circle((xs[0], ys[0]), radius, fill=False, ls=":", color=_ROBOT))
+    x, y, th = (samples[-1][1:] if samples else (0.0, 0.0, 0.0))
+    top.add_patch(Circle((x, y), radius, fill=False, color=_ROBOT,
+                         label=f"robot's footprint (r {radius:g} m; dotted: at the start)"))
+    top.add_patch(FancyArrow(x, y, 0.3 * math.cos(th), 0.3 * math.sin(th), width=0.02,
+                             color=_ROBOT, length_includes_head=True, label="robot's heading"))
+    xs += [x - radius, x + radius]
+    ys += [y - radius, y + radius]
+
+    def entity(objectid: str, path: list[tuple[int, float, float]], style: str) -> None:
+        """One entity: its path (t, x, y) in time order, the time beside each point (the
+        first and the last only, when there are many), its id beside the last."""
+        cls = objectid.partition("/")[0]
+        marker, colour = _CLASS_STYLE.get(cls, _OTHER_STYLE)
+        (_, x0, y0), (_, x1, y1) = path[0], path[-1]
+        if len(path) > 1:
+            top.plot([p[1] for p in path], [p[2] for p in path], ls=style, color=colour, lw=1,
+                     marker="." if style == "-" else None, ms=4)
+            top.plot([x0], [y0], marker=marker, color=colour, mfc="none", ms=8, ls="none")
+        timed = path if len(path) <= _TIMES_SHOWN else [path[0], path[-1]]
+        for t, px, py in timed:
+            top.annotate(f"{t / 1000:g} s", (px, py), textcoords="offset points",
+                         xytext=(6, -10), fontsize=7, color="#555555")
         top.plot([x1], [y1], marker=marker, color=colour, ms=10, ls="none",
-                 label=entity.cls if entity.cls not in seen else None)
-        seen.add(entity.cls)
-        top.annotate(entity.objectid.partition("/")[2], (x1, y1), textcoords="offset points",
-                     xytext=(6, 6), fontsize=8)
-        xs += [x0, x1]
-        ys += [y0, y1]
+                 label=cls if cls not in classes else None)
+        classes.add(cls)
+        top.annotate(objectid, (x1, y1), textcoords="offset points", xytext=(6, 6), fontsize=8)
+        xs.extend(p[1] for p in path)
+        ys.extend(p[2] for p in path)
+
+    classes: set[str] = set()
+    placed = {e.objectid for e in getattr(scenario, "entities", ()) or ()}
+    for placed_entity in getattr(scenario, "entities", ()) or ():
+        start = placed_entity.start
+        stop = max(start, end if placed_entity.stop is None else min(placed_entity.stop, end))
+        entity(placed_entity.objectid, [(start, *placed_entity.position(start)),
+                                        (stop, *placed_entity.position(stop))], "--")
+    sent, no_position = map_positions(events, samples)
+    for objectid, points in sent.items():
+        if objectid not in placed:
+            entity(objectid, points, "-")
+    extra = []
+    if placed:
+        extra.append(Line2D([], [], ls="--", color="#777777", lw=1,
+                            label="path in the scenario (hollow: start)"))
+    if any(objectid not in placed for objectid in sent):
+        extra.append(Line2D([], [], ls="-", marker=".", color="#777777", lw=1,
+                            label="positions the map was sent (hollow: first)"))
+    no_position = [objectid for objectid in no_position if objectid not in placed]
+    if no_position:
+        top.text(0.01, 0.01, "known, without a position: " + ", ".join(no_position),
+                 transform=top.transAxes, fontsize=8, va="bottom")
     pad = 0.5
     top.set_xlim(min(xs) - pad, max(xs) + pad)
     top.set_ylim(min(ys) - pad, max(ys) + pad)
@@ -110,11 +224,11 @@ def plot_run(events: list[dict], path: str, samples=None, scenario=None) -> None
     top.grid(True, lw=0.4, alpha=0.6)
     top.set_xlabel("x (m)")
     top.set_ylabel("y (m)")
-    top.legend(loc="best", fontsize=8)
+    handles, _labels = top.get_legend_handles_labels()
+    top.legend(handles=handles + extra, loc="best", fontsize=8)
     title = next((e for e in events if e["event"] == "session_end"), None)
-    top.set_title("trajectory from above" + (f" ({title['outcome']} at {title['time_ms']} ms, "
-                                             f"robot {events[0].get('robot', '?')})"
-                                             if title else ""))
+    top.set_title("from above" + (f" ({title['outcome']} at {title['time_ms']} ms, "
+                                  f"robot {events[0].get('robot', '?')})" if title else ""))
     # -- the timeline ------------------------------------------------------------------------
     lane = {name: i for i, name in enumerate(reversed(_TRACKS))}
     for track, start, stop, command in _intervals(events):
@@ -123,18 +237,13 @@ def plot_run(events: list[dict], path: str, samples=None, scenario=None) -> None
         if track == "led":
             on = command.get("turnas") == 1
             colour = (command["r"], command["g"], command["b"]) if on else (0.15, 0.15, 0.15)
-            bottom.broken_barh([(start / 1000.0, width)], (y - 0.35, 0.7), facecolors=[colour],
-                               edgecolors="#333333", lw=0.4)
         elif track == "move":
             moving = any(command[k] for k in ("v_x", "v_y", "v_theta"))
-            bottom.broken_barh([(start / 1000.0, width)], (y - 0.35, 0.7),
-                               facecolors=["#1f77b4" if moving else "#c7d7ea"],
-                               edgecolors="#333333", lw=0.4)
+            colour = "#1f77b4" if moving else "#c7d7ea"
         else:
-            silent = command.get("track_path") == "Silence"
-            bottom.broken_barh([(start / 1000.0, width)], (y - 0.35, 0.7),
-                               facecolors=["#dddddd" if silent else "#ff7f0e"],
-                               edgecolors="#333333", lw=0.4)
+            colour = "#dddddd" if command.get("track_path") == "Silence" else "#ff7f0e"
+        bottom.broken_barh([(start / 1000.0, width)], (y - 0.35, 0.7), facecolors=[colour],
+                           edgecolors="#333333", lw=0.4)
     for e in events:
         if e["event"] == "block":
             bottom.axvline(e["t"] / 1000.0, color="#888888", lw=0.6, ls=":")
@@ -147,12 +256,28 @@ def plot_run(events: list[dict], path: str, samples=None, scenario=None) -> None
             if until is not None:
                 bottom.broken_barh([(e["t"] / 1000.0, (until - e["t"]) / 1000.0)],
                                    (y - 0.45, 0.08), facecolors=["#d62728"])
-    bottom.set_yticks([lane[t] for t in _TRACKS], list(_TRACKS))
+    bottom.set_yticks([lane[t] for t in _TRACKS], [_LANE_LABELS[t] for t in _TRACKS])
     bottom.set_ylim(-0.6, len(_TRACKS) - 0.2)
     bottom.set_xlim(0, end / 1000.0)
-    bottom.set_xlabel("time (s); dotted: a block is issued; red marks: the governor clamped "
-                      "(bars: ramps, LEDs held dark)")
-    bottom.set_title("tracks per block")
+    bottom.set_xlabel("time (s)")
+    bottom.set_ylabel("track")
+    bottom.set_title("the tracks over time")
+    bottom.legend(handles=[
+        Patch(facecolor="#1f77b4", label="moving"), Patch(facecolor="#c7d7ea", label="still"),
+        Patch(facecolor="#33cc55", label="LEDs (their colour)"),
+        Patch(facecolor="#ff7f0e", label="audio"), Patch(facecolor="#dddddd", label="Silence"),
+        Line2D([], [], color="#888888", lw=0.6, ls=":", label="a block is issued"),
+        Line2D([], [], color="#d62728", marker="v", ls="none", label="the governor clamped"),
+        Patch(facecolor="#d62728", label="a ramp, or LEDs held dark"),
+    ], loc="upper center", bbox_to_anchor=(0.5, -0.3), ncol=4, fontsize=8)
     fig.tight_layout()
+    return fig
+
+
+def plot_run(events: list[dict], path: str, samples=None, scenario=None) -> None:
+    """Draw the run into `path` (.png or .svg)."""
+    from matplotlib import pyplot as plt
+
+    fig = draw_run(events, samples, scenario)
     fig.savefig(path)
     plt.close(fig)
