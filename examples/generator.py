@@ -8,7 +8,8 @@ thesis JSON; then it writes a parametrised dance of N steps.
 
 writes `OUT_FOLDER/dance_example.json` (equal, once loaded, to the thesis's own file) and
 `OUT_FOLDER/dance_N.json` (and `.scb` files with `--bytecode`). It prints the diagnostics
-and exits with status 1 when a script has errors (nothing is written for it).
+and exits with status 1 when a script has errors (nothing is written for it), 2 when the
+command line is wrong (`--steps` is 1 to 1000) or a file cannot be written.
 """
 
 from __future__ import annotations
@@ -20,6 +21,8 @@ import sys
 from scriptc.api import Activity, Built, audio, led, move
 
 SONG = "plugins/audio_control/songs/polka_del_gatto.wav"
+# A dance of more steps than this is not a dance for a child (and would take minutes to build).
+MAX_STEPS = 1000
 
 
 def dance_example() -> Activity:
@@ -64,15 +67,31 @@ def write(built: Built, folder: str, name: str, bytecode: bool) -> bool:
     return True
 
 
+def steps_count(text: str) -> int:
+    """`--steps`: a whole number of steps, 1 to MAX_STEPS (argparse reports anything else)."""
+    try:
+        steps = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a whole number: {text!r}") from None
+    if not 1 <= steps <= MAX_STEPS:
+        raise argparse.ArgumentTypeError(f"a dance has 1 to {MAX_STEPS} steps, not {steps}")
+    return steps
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("folder", help="where to write the JSON files (created if needed)")
-    parser.add_argument("--steps", type=int, default=4, help="steps of the dance (default 4)")
+    parser.add_argument("--steps", type=steps_count, default=4,
+                        help=f"steps of the dance, 1 to {MAX_STEPS} (default 4)")
     parser.add_argument("--bytecode", action="store_true", help="also write .scb bytecode")
     args = parser.parse_args(argv)
-    os.makedirs(args.folder, exist_ok=True)
-    ok = write(dance_example().build(), args.folder, "dance_example", args.bytecode)
-    ok &= write(dance(args.steps).build(), args.folder, f"dance_{args.steps}", args.bytecode)
+    try:
+        os.makedirs(args.folder, exist_ok=True)
+        ok = write(dance_example().build(), args.folder, "dance_example", args.bytecode)
+        ok &= write(dance(args.steps).build(), args.folder, f"dance_{args.steps}", args.bytecode)
+    except OSError as exc:
+        print(f"error: cannot write in `{args.folder}`: {exc.strerror or exc}", file=sys.stderr)
+        return 2
     return 0 if ok else 1
 
 

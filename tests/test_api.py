@@ -312,6 +312,29 @@ def test_the_generator_reproduces_the_thesis_dance_example(tmp_path):
     decode((out / "dance_5.scb").read_bytes())
 
 
+@pytest.mark.parametrize(("steps", "message"), [
+    ("0", "a dance has 1 to 1000 steps, not 0"),
+    ("-3", "a dance has 1 to 1000 steps, not -3"),
+    ("1001", "a dance has 1 to 1000 steps, not 1001"),
+    ("two", "not a whole number: 'two'"),
+])
+def test_the_generator_refuses_a_step_count_it_cannot_dance(tmp_path, steps, message):
+    out = tmp_path / "out"
+    result = subprocess.run([sys.executable, str(GENERATOR), str(out), "--steps", steps],
+                            capture_output=True, text=True, timeout=60)
+    assert result.returncode == 2
+    assert result.stderr.splitlines()[-1].endswith(f"error: argument --steps: {message}")
+    assert "Traceback" not in result.stderr and not out.exists()
+
+
+def test_the_generator_says_when_it_cannot_write(tmp_path):
+    (tmp_path / "file").write_text("", encoding="utf-8")
+    result = subprocess.run([sys.executable, str(GENERATOR), str(tmp_path / "file" / "out")],
+                            capture_output=True, text=True, timeout=60)
+    assert result.returncode == 2 and "Traceback" not in result.stderr
+    assert result.stderr.startswith(f"error: cannot write in `{tmp_path / 'file' / 'out'}`: ")
+
+
 # ---------------------------------------------------------------------------------------------
 # the documentation
 
