@@ -12,11 +12,17 @@ On a script of about 90 KB (`generate.big_script`), after the server has opened 
   **hover** (on a block, on a label, on a function): request sent to response received.
   Target: <= 20 ms.
 
+`--memory` measures a long session instead: the server's resident memory (RSS, from
+/proc) after opening a script of about 20 KB, and again after 2,000 quick edits (each
+awaiting its diagnostics, with no idle time between them: a fast typist, a replayed macro),
+typed at places spread over the file. Target: flat (no growth per edit).
+
 The client is a minimal JSON-RPC client written here (asyncio pipes, no pygls), so the times
 are the server's and the pipe's, not a Python client's decoding. `--pygls` measures through
 pytest-lsp's client instead (what the tests use), for comparison.
 
 Run: `.venv/bin/python bench/bench_lsp.py [--blocks N] [--rounds N] [--pygls] [--profile FILE]`
+or `.venv/bin/python bench/bench_lsp.py --memory [--edits N]`
 """
 
 from __future__ import annotations
@@ -245,6 +251,49 @@ async def bench_pygls(blocks: int, rounds: int) -> dict:
             "open": float("nan"), "edits": edit_times, "requests": requests, "labels": None}
 
 
+def rss_mib(pid: int) -> float:
+    """The resident memory of a process, in MiB (Linux: /proc/PID/status)."""
+    for line in Path(f"/proc/{pid}/status").read_text().splitlines():
+        if line.startswith("VmRSS:"):
+            return int(line.split()[1]) / 1024
+    raise RuntimeError("no VmRSS in /proc: --memory needs Linux")
+
+
+async def bench_memory(edits: int, blocks: int = 124) -> dict:
+    """RSS after the open of a script of about 20 KB (124 blocks), and after `edits` quick
+    edits: a digit typed into a speed and deleted again, at blocks spread over the file,
+    every edit's diagnostics awaited before the next edit is sent."""
+    text = big_script(blocks)
+    client = await RawClient.start()
+    pid = client.process.pid
+    await client.request("initialize", {"processId": os.getpid(), "rootUri": None,
+                                        "capabilities": {}})
+    client.notify("initialized", {})
+    await client.diagnostics_after("textDocument/didOpen", {"textDocument": {
+        "uri": URI, "languageId": "scriptc", "version": 1, "text": text}}, 1)
+    version = 1
+    samples = [(0, rss_mib(pid))]
+    plan = edits_for(text, max(1, edits // 2))
+    started = time.perf_counter()
+    done = 0
+    while done < edits:
+        for start, end, new, _kind in plan:
+            if done == edits:
+                break
+            rng = {"start": position(text, start), "end": position(text, end)}
+            text = text[:start] + new + text[end:]
+            version += 1
+            done += 1
+            await client.diagnostics_after("textDocument/didChange", {
+                "textDocument": {"uri": URI, "version": version},
+                "contentChanges": [{"range": rng, "text": new}]}, version)
+            if done % 500 == 0:
+                samples.append((done, rss_mib(pid)))
+    took = time.perf_counter() - started
+    await client.stop()
+    return {"size": len(text.encode()), "edits": edits, "samples": samples, "seconds": took}
+
+
 def ms(seconds: float) -> str:
     return f"{seconds * 1000:6.1f} ms"
 
@@ -263,7 +312,19 @@ def main() -> None:
     parser.add_argument("--pygls", action="store_true", help="measure through pytest-lsp's client")
     parser.add_argument("--profile", metavar="FILE", help="run the server under cProfile, "
                         "writing its statistics to FILE (the figures are then not meaningful)")
+    parser.add_argument("--memory", action="store_true",
+                        help="measure the server's memory over a long session of quick edits")
+    parser.add_argument("--edits", type=int, default=2000, help="edits of --memory")
     args = parser.parse_args()
+    if args.memory:
+        r = asyncio.run(bench_memory(args.edits))
+        (_, first), (_, last) = r["samples"][0], r["samples"][-1]
+        print(f"scriptc lsp over stdio; script of {r['size'] / 1000:.1f} KB, {r['edits']} quick "
+              f"edits in {r['seconds']:.1f} s")
+        print("  RSS: " + ", ".join(f"{mib:.1f} MiB after {n} edits" for n, mib in r["samples"]))
+        print(f"  growth over the session: {last - first:+.1f} MiB "
+              f"({(last - first) / r['edits'] * 1024:+.1f} KiB per edit)   target: flat")
+        return
     if args.pygls:
         r = asyncio.run(bench_pygls(args.blocks, args.rounds))
     else:

@@ -124,16 +124,35 @@ class _CachingParser:
                 try:
                     entry = _Entry(self._lark.parse(text, start=start), None)
                 except _parser.UnexpectedInput as error:
-                    entry = _Entry(None, error)
+                    entry = _Entry(None, _bare(error))
             else:
                 a._stats.reused_parses += 1
             a._current[text] = entry
         else:
             a._stats.reused_parses += 1
         if entry.error is not None:
-            raise entry.error.with_traceback(None)
+            # A copy, so that the cached error never holds a traceback: its frames (this
+            # one's `entry` among their locals, the caller's list of items) would make a
+            # reference cycle, kept until the next full collection, which the server runs
+            # only when idle.
+            raise _fresh(entry.error)
         a._by_tree[id(entry.tree)] = entry
         return entry.tree
+
+
+def _bare(error: BaseException) -> BaseException:
+    """`error` without its traceback and the exceptions it was raised while handling."""
+    error.__traceback__ = error.__context__ = error.__cause__ = None
+    return error
+
+
+def _fresh(error: BaseException) -> BaseException:
+    """A new exception equal to `error` (its class, arguments and attributes), made without
+    calling its `__init__` (lark's take arguments that `copy.copy` cannot give back)."""
+    clone = type(error).__new__(type(error), *error.args)
+    clone.__dict__.update(error.__dict__)
+    clone.args = error.args
+    return clone
 
 
 class _CachingLowerer(_lower.Lowerer):

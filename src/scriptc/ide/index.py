@@ -20,6 +20,7 @@ features that must see every use of a name (rename) refuse while the text has sy
 
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass
 
 from scriptc.ir.nodes import (
@@ -106,7 +107,10 @@ class ScriptIndex:
     feature needs every use of a name (`tables`)."""
 
     def __init__(self, snapshot) -> None:
-        self.snapshot = snapshot
+        # Weak: the snapshot keeps its index (`Snapshot.index`), and a strong reference back
+        # would make every analysed version a reference cycle, which only a full collection
+        # frees (the language server runs one only when idle).
+        self.snapshot = weakref.proxy(snapshot)
         self.blocks: dict[int, BlockInfo] = {}  # by item start
         self.block_list: list[BlockInfo] = []
         self.label_paths: dict[str, str] = {}  # label -> path of the first block carrying it

@@ -34,7 +34,10 @@ Decisions:
 - **The garbage collector** is off while the server runs: the trees and IR of a large
   document are acyclic, and collections rescanning them after every keystroke cost 10-30 ms.
   Each analysis's survivors are frozen (`gc.freeze`), and a full collection runs when the
-  server has been idle for a few seconds.
+  server has been idle for a few seconds. So an edit must leave no reference cycle behind
+  (reference counting frees everything it replaced), and nothing may be kept per edit or per
+  version: memory stays flat over a long session of quick edits
+  (tests/lsp/test_lsp_memory.py; `bench/bench_lsp.py --memory` measures the server's RSS).
 - **stdin is read through an asyncio pipe** (pygls reads it in a thread, three hand-offs per
   message), and results already in JSON form (`convert.Json`) skip pygls's cattrs pass.
 - **Nothing goes to stdout** but the protocol: `serve` points `sys.stdout` at stderr before
@@ -73,6 +76,19 @@ class Protocol(LanguageServerProtocol):
     results already in JSON form (`convert.Json`: completion lists, semantic tokens) sent as
     they are: pygls would otherwise walk them with cattrs, which costs more than computing
     them (10 ms for the 560 labels of a large script)."""
+
+    def _handle_notification(self, method_name, params):
+        """pygls's, without its leak: pygls 2.1 files the future of a notification whose
+        handler is a generator (the text synchronisation below, `initialized`...) among the
+        futures of requests, under an id of its own making, and nothing ever removes it:
+        1.4 KiB for every keystroke of a session. A notification has no response to wait
+        for and no id a client could cancel, so what it filed there is dropped once it is
+        handled."""
+        filed = self._request_futures
+        before = set(filed)  # the requests under way: a few at most
+        super()._handle_notification(method_name, params)
+        for key in [key for key in filed if key not in before]:
+            filed.pop(key, None)
 
     def _serialize_message(self, data):
         if isinstance(data, JsonRPCResponseMessage) and isinstance(data.result, convert.Json):
