@@ -74,6 +74,7 @@ def command(ctx: click.Context, path: str, cache_dir: str | None) -> None:
     """Remove the cache folder of the project PATH is in (default: here), and the caches of
     sub-projects below PATH."""
     from scriptc.cache import default_cache_dir
+    from scriptc.config.load import shown_path
 
     main = cache_dir or default_cache_dir(path)
     candidates = [main, *caches_below(path)]
@@ -84,8 +85,9 @@ def command(ctx: click.Context, path: str, cache_dir: str | None) -> None:
         if real in seen or not os.path.isdir(folder):
             continue
         seen.add(real)
+        shown = shown_path(os.path.abspath(folder))
         if not is_scriptc_cache(folder):
-            write(f"error: `{folder}` is not a cache of scriptc (it has no CACHEDIR.TAG "
+            write(f"error: `{shown}` is not a cache of scriptc (it has no CACHEDIR.TAG "
                   "written by scriptc): not removed\n", err=True)
             refused += 1
             continue
@@ -93,9 +95,10 @@ def command(ctx: click.Context, path: str, cache_dir: str | None) -> None:
         try:
             shutil.rmtree(folder)
         except OSError as exc:
-            raise CliError(f"cannot remove `{folder}`: {exc.strerror or exc}") from None
-        write(f"removed `{folder}` ({files} files, {_human(size)})\n", err=True)
+            raise CliError(f"cannot remove `{shown}`: {exc.strerror or exc}") from None
+        write(f"removed `{shown}` ({files} files, {_human(size)})\n", err=True)
         removed += 1
     if not removed and not refused:
-        write(f"nothing to remove: no cache at `{main}`\n", err=True)
+        write(f"nothing to remove: no cache at `{shown_path(os.path.abspath(main))}`\n",
+              err=True)
     ctx.exit(2 if refused else 0)
