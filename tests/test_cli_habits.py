@@ -81,6 +81,11 @@ def test_every_verb_is_listed_and_has_help() -> None:
     for verb in VERBS:
         assert f"  {verb} " in listed
         assert run(verb, "--help").exit_code == 0
+        # The group's options are added to a verb once, however often it is looked up.
+        command = cli.get_command(None, verb)
+        assert cli.get_command(None, verb) is command
+        opts = [opt for param in command.params for opt in param.opts]
+        assert opts.count("--color") == opts.count("--version") == 1
 
 
 # ---------------------------------------------------------------------------------------------
@@ -153,6 +158,16 @@ severity = { M004 = "error" }
 [robot]
 max-linear-speed = -1
 min-human-distance = 0.6
+
+[[functions]]
+name = "waving"
+kind = "B"
+arity = 0
+implementation = "activity_functions:waving"
+
+[[rules]]
+name = "greet"
+implementation = "activity_rules:Greet"
 """
 
 
@@ -185,6 +200,10 @@ def test_show_settings_says_where_each_value_comes_from(configured: Path) -> Non
     assert "# not reported: F003\n" in out
     assert "# severity changed: M004 -> error\n" in out
     assert "# per-file-ignores for this file: unreachable-block\n" in out
+    assert ('\n[[functions]]  # scriptc.toml:12:3\nname = "waving"\nkind = "B"\narity = 0\n'
+            'implementation = "activity_functions:waving"\n') in out
+    assert ('\n[[rules]]  # scriptc.toml:18:3\nname = "greet"\n'
+            'implementation = "activity_rules:Greet"\n') in out
 
 
 def test_show_settings_as_json(configured: Path) -> None:

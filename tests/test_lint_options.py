@@ -68,7 +68,7 @@ def test_extend_select_and_ignore_go_over_the_configuration(project: Path) -> No
 
 
 def test_selectors_are_comma_separated_and_repeatable(project: Path) -> None:
-    one = run("lint", ".", "--format", "json", "--select", "F001,unreachable-block,M004").stdout
+    one = run("lint", ".", "--format", "json", "--select", "F001, unreachable-block,,M004,").stdout
     two = run("lint", ".", "--format", "json", "--select", "F001", "--select", "M004").stdout
     assert one == two and sorted(r["code"] for r in json.loads(one)) == [
         "F001", "M004", "R003", "R007"]
@@ -135,18 +135,21 @@ def test_exit_zero_passes_errors_but_not_unreadable_files(project: Path) -> None
 
 
 def test_statistics_count_each_code(project: Path) -> None:
-    write(project, {"c/d.script": FIXABLE, "c/e.script": FIXABLE})
+    write(project, {f"c/d{i}.script": FIXABLE for i in range(9)})
     result = run("lint", ".", "--statistics")
     assert result.exit_code == 1
-    assert result.stdout == ("3\tR003\t    unknown-function\n"
-                             "3\tR007\t[*] invalid-scope\n"
-                             "1\tM004\t    omega-leak\n")
+    assert result.stdout == ("10\tR003\t    unknown-function\n"
+                             "10\tR007\t[*] invalid-scope\n"
+                             " 1\tM004\t    omega-leak\n")
+    # Without a fixable code, no column is kept for the mark.
+    assert run("lint", "w.script", "--extend-select", "F001", "--statistics").stdout == \
+        "1\tF001\tunreachable-block\n"
     # With --unsafe-fixes R003 is fixable too; as JSON, the same counts.
     unsafe = run("lint", ".", "--statistics", "--unsafe-fixes", "--format", "json")
     assert json.loads(unsafe.stdout) == [
-        {"code": "R003", "name": "unknown-function", "severity": "error", "count": 3,
+        {"code": "R003", "name": "unknown-function", "severity": "error", "count": 10,
          "fixable": True},
-        {"code": "R007", "name": "invalid-scope", "severity": "error", "count": 3,
+        {"code": "R007", "name": "invalid-scope", "severity": "error", "count": 10,
          "fixable": True},
         {"code": "M004", "name": "omega-leak", "severity": "warning", "count": 1,
          "fixable": True},
@@ -283,6 +286,11 @@ def test_the_cache_is_at_the_root_from_a_subfolder_or_from_outside(project: Path
     assert "(3 unchanged, from the cache)" in second.stderr
     os.chdir(project)
     assert "(3 unchanged, from the cache)" in run("lint", ".").stderr
+    # stdin named into the project: the project's cache too.
+    os.chdir(outside)
+    piped = run("lint", "-", "--stdin-filename", str(project / "w.script"), "--format", "json",
+                input=WARNS.encode())
+    assert piped.exit_code == 0 and _cache_entries(project) == 4
     assert not (outside / ".scriptc_cache").exists()
     assert not (project / "c" / ".scriptc_cache").exists()
     assert (project / ".scriptc_cache" / ".gitignore").read_text().splitlines()[-1] == "*"

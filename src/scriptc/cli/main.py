@@ -114,8 +114,7 @@ def _add_group_options(command: click.Command) -> None:
             ["--color", "--colour", "color"], type=click.Choice(COLOR_CHOICES), default=None,
             expose_value=False, callback=_set_color, help=COLOR_HELP))
     if "--version" not in taken:
-        flags = ["--version"] if "-V" in taken else ["-V", "--version"]
-        click.version_option(__version__, *flags, prog_name="scriptc",
+        click.version_option(__version__, "-V", "--version", prog_name="scriptc",
                              message="%(prog)s %(version)s")(command)
 
 
