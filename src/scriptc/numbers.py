@@ -28,7 +28,7 @@ import math
 import sys
 from typing import Any
 
-__all__ = ["LARGEST", "MAX_DIGITS", "NumberError", "NonFiniteOutput", "number_problem",
+__all__ = ["LARGEST", "MAX_DIGITS", "NumberError", "NonFiniteOutput", "number_problem", "shown",
            "json_number", "whole_number", "json_dumps"]
 
 LARGEST = sys.float_info.max
@@ -45,8 +45,9 @@ class NumberError(ValueError):
         super().__init__(message)
 
 
-def _shown(text: str) -> str:
-    """A number's text, cut in the middle when long (a 5,000-digit number is one line)."""
+def shown(text: str) -> str:
+    """A number's text in backticks for a message, cut in the middle when long (a 5,000-digit
+    number is one line)."""
     digits = sum(c.isdigit() for c in text)
     if len(text) <= 24:
         return f"`{text}`"
@@ -66,15 +67,15 @@ def number_problem(value: Any, text: str | None = None) -> str | None:
     if isinstance(value, float):
         if math.isfinite(value):
             return None
-        shown = _shown(text) if text is not None else f"`{value}`"
+        written = shown(text) if text is not None else f"`{value}`"
         if text is not None and text.lstrip("+-").lower() not in ("inf", "infinity", "nan"):
-            return _too_large(f"the number {shown}")  # `1e999`: a finite text that overflows
+            return _too_large(f"the number {written}")  # `1e999`: a finite text that overflows
         what = "not a number" if math.isnan(value) else "infinite"
-        return f"{shown} is {what}: numbers must be finite"
+        return f"{written} is {what}: numbers must be finite"
     if value > LARGEST or value < -LARGEST:
         # str() of the integer may be refused (more than 4,300 digits): count its digits.
         digits = int(abs(value).bit_length() * math.log10(2)) + 1
-        return _too_large(f"the number {_shown(text)}" if text is not None
+        return _too_large(f"the number {shown(text)}" if text is not None
                           else f"an integer of about {digits} digits")
     return None
 
@@ -85,7 +86,7 @@ def json_number(raw: str, is_integer: bool) -> int | float:
     Raises NumberError."""
     if is_integer:
         if len(raw) - raw.startswith("-") > MAX_DIGITS:
-            raise NumberError(_too_large(f"the number {_shown(raw)}"))
+            raise NumberError(_too_large(f"the number {shown(raw)}"))
         value: int | float = int(raw)
     else:
         value = float(raw)  # float() reads any number of digits; too large becomes inf
@@ -117,10 +118,15 @@ class NonFiniteOutput(ValueError):
 def _first_non_finite(value: Any) -> tuple[str, float] | None:
     """The path and value of the first NaN or infinity in a JSON-like value (iteratively)."""
     stack: list[tuple[str, Any]] = [("", value)]
+    seen: set[int] = set()  # a container met twice is a cycle (json's own error, then)
     while stack:
         path, item = stack.pop()
         if isinstance(item, float) and not math.isfinite(item):
             return path or "the top level", item
+        if isinstance(item, (dict, list, tuple)):
+            if id(item) in seen:
+                continue
+            seen.add(id(item))
         if isinstance(item, dict):
             stack.extend((f"{path}.{k}" if path else str(k), v)
                          for k, v in reversed(list(item.items())))

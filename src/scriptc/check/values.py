@@ -1,5 +1,5 @@
 """Pass 4, values inside commands, rule messages and conditions (docs/language.md):
-finite numbers (V003), colour channels in [0, 1] (V004), `turnas` 0 or 1 (V005), times whole,
+finite numbers (V003; speeds within the robot's 32-bit floats), colour channels in [0, 1] (V004), `turnas` 0 or 1 (V005), times whole,
 non-negative and within a C++ `int` (V006), rulecodes within uint32 (V007).
 
 Numbers whose text is not a number at all (`Number.value is None`) were reported where they
@@ -27,10 +27,14 @@ from scriptc.ir.nodes import (
     VarAssignment,
 )
 from scriptc.ir.values import NUMBER_RE
+from scriptc.numbers import shown, whole_number
 
 # Decided: the robot's software kept `wait_t` and `duration` in a C++ `int` (32 bits).
 MAX_TIME = 2**31 - 1
 MAX_RULECODE = 2**32 - 1
+# The robot's software reads speeds and colours with C++ `stof`: a 32-bit float, which fails
+# beyond its largest value (FLT_MAX).
+MAX_ROBOT_FLOAT = 3.4028234663852886e38
 
 
 def check_values(ctx: Context) -> list[Diagnostic]:
@@ -44,8 +48,8 @@ def check_values(ctx: Context) -> list[Diagnostic]:
         if isinstance(block, InstructionBlock):
             for mv in block.moves:
                 for name, number in (("v_x", mv.v_x), ("v_y", mv.v_y), ("v_theta", mv.v_theta)):
-                    if not _plain_finite(number.text):
-                        _finite(number, f"`{name}`", out)
+                    if not _plain_finite(number.text, MAX_ROBOT_FLOAT):
+                        _finite(number, f"`{name}`", out, MAX_ROBOT_FLOAT)
                 _time(mv.wait_t, "`wait_t`", fixes, out)
                 _time(mv.duration, "`duration`", fixes, out)
             for led in block.leds:
@@ -66,14 +70,15 @@ def check_values(ctx: Context) -> list[Diagnostic]:
     return out
 
 
-def _plain_finite(text: str) -> bool:
-    """Fast path: a finite float (texts float() reads but the syntax does not were reported
-    where they were read, so accepting them here hides nothing)."""
+def _plain_finite(text: str, limit: float | None = None) -> bool:
+    """Fast path: a finite float, within `limit` when given (texts float() reads but the
+    syntax does not were reported where they were read, so accepting them here hides
+    nothing)."""
     try:
         v = float(text)
     except ValueError:
         return True
-    return v - v == 0.0
+    return v - v == 0.0 and (limit is None or -limit <= v <= limit)
 
 
 def _plain_unit(text: str) -> bool:
@@ -91,17 +96,26 @@ def _read(number: Number) -> float | None:
     return number.value
 
 
-def _finite(number: Number, what: str, out: list[Diagnostic]) -> bool:
-    """Report V003 for a number too large to represent; True when the number is usable."""
+def _finite(number: Number, what: str, out: list[Diagnostic],
+            limit: float | None = None) -> bool:
+    """Report V003 for a number too large to represent (as a double, or beyond `limit`, the
+    largest value the robot reads into the field); True when the number is usable."""
     value = _read(number)
     if value is None:
+        return False
+    if number.is_finite and limit is not None and abs(value) > limit:
+        out.append(diagnostic(
+            "V003", f"{what} is {shown(number.text)}, too large for the robot", number.span,
+            notes=("the robot's software reads it as a 32-bit float (C++ `stof`), whose "
+                   f"largest value is about {limit:.1e}",),
+            help="write a speed the robot can reach"))
         return False
     if number.is_finite:
         return True
     out.append(
         diagnostic(
             "V003",
-            f"{what} is `{number.text}`, too large to represent",
+            f"{what} is {shown(number.text)}, too large to represent",
             number.span,
             notes=("read as a floating-point number it becomes infinite",),
             help="write a finite number",
@@ -121,8 +135,8 @@ def _whole(number: Number, what: str, low: int, high: int, code: str, fixes: boo
     if value is None:
         return
     limit = "an unsigned 32-bit integer" if code == "V007" else "a whole number of milliseconds"
-    if number.is_integer_text:
-        n = int(number.text)
+    n = whole_number(number.text) if number.is_integer_text else None
+    if n is not None:  # (None for a text of hundreds of digits: V003 below says so)
         if n < low:
             out.append(diagnostic(code, f"{what} must not be negative, found `{number.text}`", number.span,
                                   help=f"{what} must be {limit} from {low} to {high}"))
@@ -153,7 +167,7 @@ def _limit_note(code: str) -> tuple[str, ...]:
 
 def _time(number: Number, what: str, fixes: bool, out: list[Diagnostic]) -> None:
     text = number.text
-    if text.isdigit() and (len(text) < 10 or int(text) <= MAX_TIME):
+    if text.isdigit() and len(text) < 10:
         return
     _whole(number, what, 0, MAX_TIME, "V006", fixes, out, unit=" ms")
 

@@ -18,6 +18,7 @@ import math
 from dataclasses import MISSING, dataclass, fields
 from typing import Union
 
+from scriptc.numbers import whole_number
 from scriptc.source import Span
 
 
@@ -339,7 +340,10 @@ class InstructionBlock:
                     if not (command.wait_t.is_integer_text
                             and command.duration.is_integer_text):
                         return None
-                total += int(wait) + int(duration)
+                wait_ms, duration_ms = whole_number(wait), whole_number(duration)
+                if wait_ms is None or duration_ms is None:  # hundreds of digits: V003
+                    return None
+                total += wait_ms + duration_ms
             if total > longest:
                 longest = total
         return longest

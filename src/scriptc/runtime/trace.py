@@ -9,8 +9,9 @@ same inputs write identical bytes.
 
 from __future__ import annotations
 
-import json
 from typing import Any
+
+from scriptc.numbers import json_dumps
 
 # Every kind of event, in the order docs/runtime.md presents them.
 EVENT_KINDS = (
@@ -21,7 +22,7 @@ EVENT_KINDS = (
 
 
 def dumps(event: dict) -> str:
-    return json.dumps(event, ensure_ascii=False, separators=(",", ":"))
+    return json_dumps(event, ensure_ascii=False, separators=(",", ":"))
 
 
 class Trace:
