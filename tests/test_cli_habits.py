@@ -234,6 +234,18 @@ def test_show_settings_without_a_configuration_and_isolated(configured: Path,
     assert (missing.exit_code, missing.stderr) == (2, "error: `nowhere.script` does not exist\n")
 
 
+def test_show_settings_with_a_configuration_named(configured: Path) -> None:
+    (configured / "strict.toml").write_text('[lint]\nselect = ["F"]\n', encoding="utf-8")
+    result = run("show-settings", "legacy/old.script", "--config", "strict.toml", "--json")
+    assert result.exit_code == 0
+    record = json.loads(result.stdout)
+    assert (record["configuration"], record["cache_dir"]) == ("strict.toml", ".scriptc_cache")
+    assert record["settings"]["lint.select"]["origin"] == {"file": "strict.toml", "line": 2,
+                                                           "column": 1}
+    assert record["settings"]["lint.ignore"]["origin"] is None
+    assert run("show-settings", ".", "--config", "strict.toml", "--isolated").exit_code == 2
+
+
 def test_show_settings_of_a_pyproject_table(files: Path) -> None:
     (files / "pyproject.toml").write_text('[project]\nname = "x"\n\n[tool.scriptc.lint]\n'
                                           'select = ["F"]\n', encoding="utf-8")
