@@ -73,3 +73,112 @@ def test_the_license_is_the_one_the_package_declares() -> None:
     assert declared["project"]["license"] == "MIT"
     text = (ROOT / "LICENSE").read_text(encoding="utf-8")
     assert text.startswith("MIT License\n") and "Permission is hereby granted, free of charge" in text
+
+
+# -- links and file names in the documentation ------------------------------------------------
+
+DOCUMENTS = [ROOT / "README.md", ROOT / "examples" / "README.md",
+             *sorted((ROOT / "docs").glob("*.md"))]
+_FENCE = re.compile(r"^```.*?^```", re.MULTILINE | re.DOTALL)
+_LINK = re.compile(r"(?<!!)\[[^\]]*\]\(([^)\s]+)\)")
+
+
+def _prose(path: Path) -> str:
+    """A document's text without its fenced blocks (code, not references)."""
+    return _FENCE.sub("", path.read_text(encoding="utf-8"))
+
+
+def _anchors(path: Path) -> set[str]:
+    """The anchors of a Markdown file's headings, as GitHub makes them."""
+    seen: dict[str, int] = {}
+    anchors = set()
+    for m in re.finditer(r"^#{1,6} (.+)$", _prose(path), re.MULTILINE):
+        slug = re.sub(r"[^\w\- ]", "", m.group(1).strip().lower()).replace(" ", "-")
+        n = seen.get(slug, 0)
+        seen[slug] = n + 1
+        anchors.add(slug if n == 0 else f"{slug}-{n}")
+    return anchors
+
+
+def broken_links(documents) -> list[str]:
+    """The relative links of `documents` to a file, or a heading, that does not exist."""
+    broken = []
+    for document in documents:
+        for m in _LINK.finditer(_prose(document)):
+            target = m.group(1)
+            if re.match(r"[a-z][a-z0-9+.-]*:", target):
+                continue  # https:, mailto:
+            path, _, anchor = target.partition("#")
+            resolved = (document.parent / path) if path else document
+            if not resolved.exists():
+                broken.append(f"{document.name}: {target} (no such file)")
+            elif anchor and (resolved.suffix != ".md" or anchor not in _anchors(resolved)):
+                broken.append(f"{document.name}: {target} (no such heading)")
+    return broken
+
+
+def test_every_relative_link_of_the_documentation_exists() -> None:
+    assert broken_links(DOCUMENTS) == []
+
+
+def test_a_broken_link_is_found(tmp_path: Path) -> None:
+    (tmp_path / "there.md").write_text("# A heading: `here` (too)\n", encoding="utf-8")
+    document = tmp_path / "doc.md"
+    document.write_text("[ok](there.md) [ok](there.md#a-heading-here-too) [ok](#local)\n"
+                        "# Local\n[gone](nowhere.md) [wrong](there.md#nothing)\n"
+                        "```\n[in code](ignored.md)\n```\n[web](https://example.org/x)\n",
+                        encoding="utf-8")
+    assert broken_links([document]) == ["doc.md: nowhere.md (no such file)",
+                                        "doc.md: there.md#nothing (no such heading)"]
+
+
+# Where a file name in the documentation is looked for: the repository, the package (module
+# names such as `runtime/plot.py`), the runtime (its `robots/`), the VS Code extension (its own
+# `syntaxes/`, `tests/`), the runtime cases (their `lib/`), and the document's own folder.
+_BASES = ["", "src", "src/scriptc", "src/scriptc/runtime", "lsp/vscode", "tests/cases/runtime"]
+# Files that are the user's, not the repository's: what `scriptc init` and the tutorial create
+# in an activity repository, and examples of paths and patterns.
+_USERS_FILES = {
+    "activities/greeting.script", "activities/greeting.json", "scenarios/greeting.json",
+    "activities/", "audio/", "songs/hello.wav", "songs/...", "plugins/audio_control/songs/...",
+    "out/dance_example.json", "out/dance_8.json", "./activities/x.script", "a/x.script",
+    "/home/me/robot/activities/x.script", "/top.script", "dir/", ".vscode/settings.json",
+    ".helix/languages.toml", "node_modules/",
+}
+# A named path: in backquotes, with a `/` and a file's suffix (or a folder's final `/`).
+_PATH = re.compile(r"`(\.{0,2}/?[A-Za-z0-9_.-]+(?:/[A-Za-z0-9_.-]+)*/?)`")
+
+
+def missing_files(documents) -> list[str]:
+    """The files `documents` name (in backquotes) that the repository does not have."""
+    from scriptc.cli.init import FILES
+
+    scaffold = {name for name, _ in FILES} | {name.split("/")[0] + "/" for name, _ in FILES}
+    missing = []
+    for document in documents:
+        for m in _PATH.finditer(_prose(document)):
+            name = m.group(1)
+            last = name.rstrip("/").rsplit("/", 1)[-1]
+            if "/" not in name or not (name.endswith("/") or "." in last.strip(".")):
+                continue
+            if re.search(r"\b(NAME|CODE)\b|\.\.\.", name) and name not in _USERS_FILES:
+                continue  # a pattern: `tests/cases/fmt/NAME.script`
+            if name in _USERS_FILES or name in scaffold:
+                continue
+            places = [ROOT / base / name for base in _BASES] + [document.parent / name]
+            if not any(place.exists() for place in places):
+                missing.append(f"{document.name}: {name}")
+    return missing
+
+
+def test_every_file_the_documentation_names_exists() -> None:
+    assert missing_files(DOCUMENTS) == []
+
+
+def test_a_missing_file_is_found(tmp_path: Path) -> None:
+    document = tmp_path / "doc.md"
+    document.write_text("`src/scriptc/fmt.py`, `runtime/plot.py`, `examples/`, `songs/hello.wav`,\n"
+                        "`.github/workflows/scriptc.yml`, `tests/cases/fmt/NAME.script`, `a/b`,\n"
+                        "`src/scriptc/fmt2.py` and `docs/gone/`\n```\n`src/in_code.py`\n```\n",
+                        encoding="utf-8")
+    assert missing_files([document]) == ["doc.md: src/scriptc/fmt2.py", "doc.md: docs/gone/"]
