@@ -182,3 +182,18 @@ def test_a_missing_file_is_found(tmp_path: Path) -> None:
                         "`src/scriptc/fmt2.py` and `docs/gone/`\n```\n`src/in_code.py`\n```\n",
                         encoding="utf-8")
     assert missing_files([document]) == ["doc.md: src/scriptc/fmt2.py", "doc.md: docs/gone/"]
+
+
+def test_no_two_files_differ_only_in_case() -> None:
+    """A checkout on a case-insensitive file system (macOS, Windows) keeps every file: no
+    `README.md` beside a `readme.md`."""
+    seen: dict[str, str] = {}
+    clashes = []
+    for folder, dirs, files in os.walk(ROOT):
+        dirs[:] = [d for d in dirs if d not in _NOT_OURS and not d.startswith(".venv")]
+        for name in [*dirs, *files]:
+            path = (Path(folder) / name).relative_to(ROOT).as_posix()
+            if path.lower() in seen:
+                clashes.append((seen[path.lower()], path))
+            seen[path.lower()] = path
+    assert clashes == []
