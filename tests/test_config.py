@@ -96,6 +96,24 @@ def test_wrong_values_are_left_at_their_defaults() -> None:
     assert [r.implementation for r in s.rules] == ["rules:greet"]  # the first of the two
 
 
+def test_numbers_the_policy_refuses_are_left_at_their_defaults() -> None:
+    """`inf` reached the governor's profile (and `Infinity` the trace); a 327-digit integer
+    made building the settings overflow."""
+    loaded = load_config(str(CONFIG_CASES / "non_finite_numbers.toml"))
+    robot = loaded.settings.robot
+    assert (robot.max_linear_speed, robot.min_human_distance, robot.max_angular_speed,
+            robot.max_volume, robot.max_linear_acceleration) == (None,) * 5
+    assert robot.max_angular_acceleration == 2.5
+    huge = load_config(str(CONFIG_CASES / "huge_integer.toml"))
+    assert [d.code for d in huge.diagnostics] == ["C002"]
+    assert huge.settings.robot.max_volume is None  # tomllib read nothing: the defaults
+
+
+def test_a_pyproject_with_an_unreadable_integer_is_still_ours(tmp_path: Path) -> None:
+    (tmp_path / "pyproject.toml").write_text("[tool.scriptc]\nx = " + "1" * 5000 + "\n")
+    assert find_config(str(tmp_path)) == str(tmp_path / "pyproject.toml")
+
+
 def test_a_broken_file_uses_the_defaults() -> None:
     loaded = load_config(str(CONFIG_CASES / "invalid_toml.toml"))
     assert [d.code for d in loaded.diagnostics] == ["C005"]

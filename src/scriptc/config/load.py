@@ -15,12 +15,14 @@ from __future__ import annotations
 
 import os
 import re
+import sys
 from typing import Any, NamedTuple
 
 from scriptc.config.model import (ALL, ROBOT_KEYS, SEVERITIES, RobotProfile, RuleSelection,
                                   Settings, UserFunction, UserRule)
 from scriptc.diagnostics.model import Diagnostic, diagnostic
 from scriptc.language import is_name
+from scriptc.numbers import MAX_DIGITS, number_problem
 from scriptc.source import SourceFile, Span
 
 CONFIG_FILES = ("scriptc.toml", "pyproject.toml")
@@ -65,7 +67,7 @@ def _pyproject_names_scriptc(data: bytes) -> bool:
 
     try:
         table = tomllib.loads(data.decode("utf-8"))
-    except (UnicodeDecodeError, tomllib.TOMLDecodeError):
+    except ValueError:  # not UTF-8, not TOML, or an integer Python cannot read
         # A broken file that seems to hold the table is ours to report.
         return bool(re.search(_TOOL_TABLE, data.decode("utf-8", errors="replace"),
                               re.MULTILINE))
@@ -129,6 +131,18 @@ def _toml_error(text: str, exc: Exception) -> Diagnostic:
                       help="see https://toml.io for the syntax")
 
 
+def _long_integer(text: str) -> Diagnostic:
+    """The integer too long for Python to read, which stopped tomllib: the number policy's
+    error at the first run of more digits than Python converts."""
+    limit = sys.get_int_max_str_digits() or 4300
+    run = re.search(rf"[0-9](?:_?[0-9]){{{limit},}}", text)
+    span = Span(run.start(), run.end()) if run else Span(0, 0)
+    written = text[span.start:span.end]
+    problem = number_problem(10 ** MAX_DIGITS, written) if written else None
+    return diagnostic("C002", problem or "an integer too large to read", span,
+                      help="write a number within a double's range")
+
+
 def load_config(path: str, cache: Any = None, *, pyproject: bool | None = None) -> ConfigFile:
     """Read, check and build the configuration in `path` (a scriptc.toml or pyproject.toml;
     `pyproject` says which when the file's name does not). Never raises: problems are
@@ -160,6 +174,8 @@ def load_config(path: str, cache: Any = None, *, pyproject: bool | None = None) 
         document = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         return ConfigFile(base, source, [_toml_error(text, exc)])
+    except ValueError:  # tomllib converts integers with int(): more than 4,300 digits fail
+        return ConfigFile(base, source, [_long_integer(text)])
     prefix: tuple[str, ...] = ()
     table: Any = document
     if pyproject is None:
@@ -205,7 +221,8 @@ def _strings(value: Any) -> tuple[str, ...]:
 
 
 def _number(value: Any) -> float | None:
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or \
+            number_problem(value) is not None:  # nan, inf, beyond a double: reported
         return None
     return float(value)
 

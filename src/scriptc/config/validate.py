@@ -18,6 +18,7 @@ from typing import Any
 from scriptc.config.model import selected_codes
 from scriptc.config.tomlpos import KeyPath, Positions, locate
 from scriptc.diagnostics.model import Diagnostic, diagnostic
+from scriptc.numbers import number_problem
 from scriptc.source import SourceFile
 
 
@@ -107,6 +108,8 @@ class _Checker:
         path = tuple(error.absolute_path)
         kind = error.validator
         value = error.instance
+        if number_problem(value) is not None:
+            return  # `nan`, `inf`, beyond a double: the number policy reports it (`numbers`)
         sub = error.schema
         what = f"`{self.name(path)}`"
         if kind == "additionalProperties" and sub.get("additionalProperties") is False:
@@ -164,7 +167,25 @@ class _Checker:
 
     # -- what a schema cannot say -------------------------------------------------------------
 
+    def numbers(self, data: dict[str, Any]) -> None:
+        """The number policy (scriptc.numbers) over every number of the table: TOML reads
+        `nan`, `inf` and `1e999` (infinity), and a JSON Schema's ranges let them through."""
+        stack: list[tuple[KeyPath, Any]] = [((), data)]
+        while stack:
+            path, value = stack.pop()
+            if isinstance(value, dict):
+                stack.extend((path + (k,), v) for k, v in value.items())
+            elif isinstance(value, list):
+                stack.extend((path + (i,), v) for i, v in enumerate(value))
+            elif number_problem(value) is not None:
+                span = self.positions.find(self.prefix + path, prefer="value")
+                written = self.source.text[span.start:span.end].strip()
+                self.report("C002", f"`{self.name(path)}`: "
+                            f"{number_problem(value, written or None)}", path,
+                            help="write a finite number in the key's range")
+
     def check_meaning(self, data: dict[str, Any]) -> None:
+        self.numbers(data)
         lint = data.get("lint")
         if isinstance(lint, dict):
             for key in ("select", "ignore"):
