@@ -197,3 +197,24 @@ def test_no_two_files_differ_only_in_case() -> None:
                 clashes.append((seen[path.lower()], path))
             seen[path.lower()] = path
     assert clashes == []
+
+
+# `pip install scriptc`, `pip install 'scriptc[plot]'`, `pip install "scriptc==0.1.0"`: a name
+# on a package index, where scriptc is not published (anyone could publish that name). Install
+# lines name the source (`scriptc @ git+URL@COMMIT`, a checkout) instead.
+_INDEX_INSTALL = re.compile(
+    r"pip install\s+(?:-\S+\s+)*[\"']?scriptc(?:\[[^\]]*\])?(?!\s*@)(?=[\s\"'=<>~!,]|$)")
+
+
+def test_no_install_line_asks_a_package_index_for_scriptc() -> None:
+    found = [f"{path}: {m.group()}" for path, text in repository_text_files()
+             if path != "tests/test_docs.py"  # the examples below
+             for m in _INDEX_INSTALL.finditer(text)]
+    assert found == []
+    for line in ("pip install scriptc", "pip install 'scriptc[plot]'",
+                 'python -m pip install "scriptc==0.1.0"', "pip install -U scriptc"):
+        assert _INDEX_INSTALL.search(line), line
+    for line in ("pip install 'scriptc @ git+https://h/o/scriptc@abc'", "pip install -e '.[plot]'",
+                 "pip install 'scriptc[plot] @ git+https://h/o/scriptc@abc'",
+                 "pip install scriptc-tools"):
+        assert not _INDEX_INSTALL.search(line), line

@@ -48,7 +48,7 @@ async function start() {
     const command = resolveCommand(vscode.workspace.getConfiguration("scriptc").get("path"));
     const choice = await vscode.window.showErrorMessage(
       `scriptc: could not start the language server with \`${command} lsp\` (${error.message || error}). ` +
-        "Install scriptc (pip install scriptc) or set `scriptc.path`.",
+        "Install scriptc from its source repository (docs/cli.md, \"Installing scriptc\") or set `scriptc.path`.",
       "Open Settings"
     );
     if (choice === "Open Settings") {
