@@ -15,7 +15,8 @@ On a script of about 90 KB (`generate.big_script`), after the server has opened 
 `--memory` measures a long session instead: the server's resident memory (RSS, from
 /proc) after opening a script of about 20 KB, and again after 2,000 quick edits (each
 awaiting its diagnostics, with no idle time between them: a fast typist, a replayed macro),
-typed at places spread over the file. Target: flat (no growth per edit).
+typed at places spread over the file, with a hover and the inlay hints asked after every
+fourth edit (as editors ask after a change). Target: flat (no growth per edit).
 
 The client is a minimal JSON-RPC client written here (asyncio pipes, no pygls), so the times
 are the server's and the pipe's, not a Python client's decoding. `--pygls` measures through
@@ -287,6 +288,11 @@ async def bench_memory(edits: int, blocks: int = 124) -> dict:
             await client.diagnostics_after("textDocument/didChange", {
                 "textDocument": {"uri": URI, "version": version},
                 "contentChanges": [{"range": rng, "text": new}]}, version)
+            if done % 4 == 0:
+                await client.request("textDocument/hover", {"textDocument": {"uri": URI},
+                                                            "position": rng["start"]})
+                await client.request("textDocument/inlayHint", {"textDocument": {"uri": URI},
+                                                                "range": rng})
             if done % 500 == 0:
                 samples.append((done, rss_mib(pid)))
     took = time.perf_counter() - started
