@@ -31,6 +31,16 @@ def test_twenty_thousand_open_brackets_are_capped() -> None:
     assert 0 < len(found) <= 100 and set(found) == {"P002"}
 
 
+def test_the_scanner_keeps_no_more_diagnostics_than_are_shown() -> None:
+    """A million stray `[` made a million diagnostics, one by one, to show a hundred (more
+    than 20 s for a 1 MB line: the fuzz campaign's slow class); every item is still found."""
+    from scriptc.syntax.scan import MAX_SYNTAX_ERRORS, scan
+
+    scanned = scan("[" * 20000 + "x ]" * 5)
+    assert len(scanned.diagnostics) == MAX_SYNTAX_ERRORS + 1
+    assert len(scanned.items) == 20000
+
+
 def test_unclosed_everything() -> None:
     assert codes('[act\n[goal:g\n[action\n[b##blk_inst: MV("1, 0') == ["P002", "P002", "P002", "P003"]
 

@@ -67,7 +67,7 @@ def _pyproject_names_scriptc(data: bytes) -> bool:
 
     try:
         table = tomllib.loads(data.decode("utf-8"))
-    except ValueError:  # not UTF-8, not TOML, or an integer Python cannot read
+    except (ValueError, RecursionError):  # not UTF-8 or TOML, or a value Python cannot read
         # A broken file that seems to hold the table is ours to report.
         return bool(re.search(_TOOL_TABLE, data.decode("utf-8", errors="replace"),
                               re.MULTILINE))
@@ -143,6 +143,15 @@ def _long_integer(text: str) -> Diagnostic:
                       help="write a number within a double's range")
 
 
+def _too_deep(text: str) -> Diagnostic:
+    """Arrays or inline tables nested deeper than tomllib can read (it recurses): an error at
+    the first long run of openers."""
+    run = re.search(r"[\[{](?:\s*[\[{]){50,}", text)
+    span = Span(run.start(), run.start() + 1) if run else Span(0, 0)
+    return diagnostic("C005", "the configuration nests arrays or tables too deeply to be read",
+                      span, help="a configuration's values nest a level or two")
+
+
 def load_config(path: str, cache: Any = None, *, pyproject: bool | None = None) -> ConfigFile:
     """Read, check and build the configuration in `path` (a scriptc.toml or pyproject.toml;
     `pyproject` says which when the file's name does not). Never raises: problems are
@@ -176,6 +185,8 @@ def load_config(path: str, cache: Any = None, *, pyproject: bool | None = None) 
         return ConfigFile(base, source, [_toml_error(text, exc)])
     except ValueError:  # tomllib converts integers with int(): more than 4,300 digits fail
         return ConfigFile(base, source, [_long_integer(text)])
+    except RecursionError:  # tomllib recurses into nested arrays and inline tables
+        return ConfigFile(base, source, [_too_deep(text)])
     prefix: tuple[str, ...] = ()
     table: Any = document
     if pyproject is None:

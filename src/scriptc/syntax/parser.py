@@ -25,11 +25,8 @@ from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit, diagnost
 from scriptc.resources import grammar_path
 from scriptc.source import Span
 from scriptc.syntax.lexer import ContextualFastLexer
-from scriptc.syntax.scan import Scan, scan
+from scriptc.syntax.scan import MAX_SYNTAX_ERRORS, Scan, scan
 from scriptc.syntax.shapes import ShapeParser
-
-
-MAX_SYNTAX_ERRORS = 100
 
 
 @dataclass(frozen=True, slots=True)

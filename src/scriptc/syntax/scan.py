@@ -33,11 +33,22 @@ class RawItem:
     broken: bool = False
 
 
+# After this many syntax errors the report stops (the parser says so in a note): one more is
+# kept, so that the parser knows there were more. Items and comments are still all found.
+MAX_SYNTAX_ERRORS = 100
+
+
 @dataclass(slots=True)
 class Scan:
     items: list[RawItem] = field(default_factory=list)
     comments: list[Span] = field(default_factory=list)
     diagnostics: list[Diagnostic] = field(default_factory=list)
+
+    @property
+    def full(self) -> bool:
+        """Whether no more diagnostics are kept: a million stray `[` cost a million
+        diagnostics, one by one, where the report shows a hundred."""
+        return len(self.diagnostics) > MAX_SYNTAX_ERRORS
 
 
 def _line_end(text: str, pos: int) -> int:
@@ -72,18 +83,19 @@ def scan(text: str) -> Scan:
         else:
             m = _STRAY.match(text, pos)
             end = _last_non_space(text, pos, m.end())
-            shown = text[pos:end].splitlines()[0][:40]
-            help_ = "items are written in square brackets, such as `[action]`"
-            if ch == "]":
-                help_ = "remove the `]`, or add the `[` that should open this item"
-            result.diagnostics.append(
-                diagnostic(
-                    "P008",
-                    f"expected `[` to start an item, found `{shown}`",
-                    Span(pos, end),
-                    help=help_,
+            if not result.full:
+                shown = text[pos:end].splitlines()[0][:40]
+                help_ = "items are written in square brackets, such as `[action]`"
+                if ch == "]":
+                    help_ = "remove the `]`, or add the `[` that should open this item"
+                result.diagnostics.append(
+                    diagnostic(
+                        "P008",
+                        f"expected `[` to start an item, found `{shown}`",
+                        Span(pos, end),
+                        help=help_,
+                    )
                 )
-            )
             pos = m.end()
         pos = _SPACE.match(text, pos).end()
     return result
@@ -116,7 +128,8 @@ def _scan_item(text: str, start: int, result: Scan) -> int:
             result.items.append(RawItem(Span(start, at + 1), broken=broken))
             return at + 1
         if ch == "[":
-            result.diagnostics.append(_unclosed_item(text, start, at))
+            if not result.full:
+                result.diagnostics.append(_unclosed_item(text, start, at))
             result.items.append(RawItem(Span(start, at), closed=False, broken=broken))
             return at
         if ch == '"':
