@@ -9,6 +9,8 @@ Every test module in tests/lsp/ shares one server (starting one costs about a se
 from __future__ import annotations
 
 import asyncio
+import json
+import subprocess
 import sys
 from pathlib import Path
 
@@ -181,3 +183,31 @@ def apply_edits(text: str, doc: Doc, edits: list[lsp.TextEdit]) -> str:
     for start, _, end, new in spans:
         text = text[:start] + new + text[end:]
     return text
+
+
+def run_session(messages: list[dict], capabilities: dict | None = None,
+                timeout: float = 60) -> tuple[dict[int, dict], str]:
+    """`scriptc lsp` over stdio, driven by a client that sends `initialize`, `initialized`,
+    `messages` (requests have an `id`), `shutdown` and `exit` at once, then reads everything
+    back: the responses by id, and all the server wrote on stderr (complete: the server has
+    exited). For what only the log shows."""
+    framed = []
+    for message in [{"id": 0, "method": "initialize", "params": {
+                        "processId": None, "rootUri": None, "capabilities": capabilities or {}}},
+                    {"method": "initialized", "params": {}}, *messages,
+                    {"id": -1, "method": "shutdown"}, {"method": "exit"}]:
+        body = json.dumps({"jsonrpc": "2.0", **message}).encode()
+        framed.append(b"Content-Length: %d\r\n\r\n%s" % (len(body), body))
+    done = subprocess.run(SERVER_COMMAND, input=b"".join(framed), capture_output=True,
+                          timeout=timeout)
+    responses: dict[int, dict] = {}
+    out = done.stdout
+    while out:
+        head, _, rest = out.partition(b"\r\n\r\n")
+        length = next(int(line.split(b":")[1]) for line in head.split(b"\r\n")
+                      if line.lower().startswith(b"content-length:"))
+        message = json.loads(rest[:length])
+        out = rest[length:]
+        if "id" in message and "method" not in message:
+            responses[message["id"]] = message
+    return responses, done.stderr.decode("utf-8", "replace")

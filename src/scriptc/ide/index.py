@@ -20,6 +20,7 @@ features that must see every use of a name (rename) refuse while the text has sy
 
 from __future__ import annotations
 
+import math
 import weakref
 from dataclasses import dataclass
 
@@ -78,14 +79,15 @@ class Occurrence:
 
 def track_time(commands) -> float | None:
     """The time a track takes: the sum of `wait_t + duration` over its commands (docs/runtime.md,
-    "Instruction blocks"), None when a time is not a number."""
+    "Instruction blocks"), None when a time is not a number, or not a finite one (`1e999`,
+    which the checks report as V003, or a sum too large to represent)."""
     total = 0.0
     for command in commands:
         wait, duration = command.wait_t.value, command.duration.value
         if wait is None or duration is None:
             return None
         total += wait + duration
-    return total
+    return total if math.isfinite(total) else None
 
 
 def block_duration(block: Block) -> float | None:
@@ -119,8 +121,9 @@ class ScriptIndex:
         self._items: dict[int, list[Occurrence]] = {}
         self._tables: Tables | None = None
         self._bindings: dict[str, list[ClassAssignment]] | None = None
+        self.goals: dict[int, object] = {}  # by item start
         script = snapshot.script
-        if script is None:
+        if script is None:  # no item could be read: an index with nothing in it
             return
         for message in (*script.alfa, *script.omega):
             self.messages[message.span.start] = message

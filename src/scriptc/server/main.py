@@ -53,7 +53,7 @@ import sys
 import threading
 
 from lsprotocol import types as lsp
-from pygls.exceptions import JsonRpcException
+from pygls.exceptions import JsonRpcException, JsonRpcInternalError
 from pygls.lsp.server import LanguageServer
 from pygls.protocol import LanguageServerProtocol, lsp_method
 from pygls.protocol.json_rpc import JsonRPCResponseMessage
@@ -69,6 +69,14 @@ log = logging.getLogger("scriptc.server")
 # How long the server waits without a change before running a full garbage collection.
 IDLE_COLLECT_SECONDS = 5.0
 REQUEST_FAILED = -32803  # the protocol's RequestFailed: the request was valid but failed
+
+
+class Refusal(JsonRpcException):
+    """A request the server declines for a reason the user should read (a rename to a name
+    in use, of something that is not a name): answered as the protocol's RequestFailed with
+    that reason, which editors show, and not logged as a failure of the server."""
+
+    CODE = REQUEST_FAILED
 
 
 class Protocol(LanguageServerProtocol):
@@ -89,6 +97,22 @@ class Protocol(LanguageServerProtocol):
         super()._handle_notification(method_name, params)
         for key in [key for key in filed if key not in before]:
             filed.pop(key, None)
+
+    def _send_handler_result(self, future, *, msg_id):
+        """pygls's, for the two outcomes it words badly: a `Refusal` is answered as it is,
+        without the traceback pygls logs at ERROR for every error response; a bug (any other
+        exception) is logged with its traceback on stderr and answered as an internal error
+        that says what failed, without the traceback pygls puts in the answer's data."""
+        error = None if future.cancelled() else future.exception()
+        if error is None or (isinstance(error, JsonRpcException) and not isinstance(error, Refusal)):
+            return super()._send_handler_result(future, msg_id=msg_id)
+        self._request_futures.pop(msg_id, None)
+        if not isinstance(error, Refusal):
+            log.error("request %s failed", msg_id, exc_info=error)
+            error = JsonRpcInternalError(
+                message=f"scriptc could not answer: {type(error).__name__}: {error} "
+                        "(the server's log on stderr has the details; please report it)")
+        self._send_response(msg_id, error=error.to_response_error())
 
     def _serialize_message(self, data):
         if isinstance(data, JsonRPCResponseMessage) and isinstance(data.result, convert.Json):
@@ -239,6 +263,15 @@ def initialize(ls: ScriptcServer, params: lsp.InitializeParams) -> None:
     from scriptc.syntax.parser import script_parser
 
     script_parser()
+
+
+@SERVER.feature(lsp.SHUTDOWN)
+def shutdown(ls: ScriptcServer, params: None) -> None:
+    """The client is leaving: diagnostics still due are not sent (a client that sends
+    `shutdown` and `exit` right after a change would otherwise have them written to a closed
+    stream while the server exits)."""
+    ls.push = False
+    ls._dirty.clear()
 
 
 # The configuration files `scriptc lint` reads (docs/configuration.md).
@@ -416,8 +449,8 @@ def on_references(ls: ScriptcServer, params: lsp.ReferenceParams):
     return convert.locations(p, params.text_document.uri, spans) or None
 
 
-def _rename_failed(error: RenameError) -> JsonRpcException:
-    return JsonRpcException(message=str(error), code=REQUEST_FAILED)
+def _rename_failed(error: RenameError) -> Refusal:
+    return Refusal(message=str(error))
 
 
 @SERVER.feature(lsp.TEXT_DOCUMENT_PREPARE_RENAME)
