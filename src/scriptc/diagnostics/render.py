@@ -314,10 +314,10 @@ def diagnostic_record(source: SourceFile, d: Diagnostic) -> dict[str, Any]:
 
 
 def render_json(results: Sequence[Any]) -> str:
-    import json
+    from scriptc.numbers import json_dumps  # the JSON writer: never NaN or Infinity
 
     records = [diagnostic_record(source, d) for source, ds in _pairs(results) for d in ds]
-    return json.dumps(records, indent=2, ensure_ascii=False) + "\n"
+    return json_dumps(records, indent=2, ensure_ascii=False) + "\n"
 
 
 # ---------------------------------------------------------------------------------------------
@@ -382,11 +382,11 @@ def _sarif_rule(code: str) -> dict[str, Any]:
 
 
 def render_sarif(results: Sequence[Any]) -> str:
-    import json
     import os
     from pathlib import Path
 
     from scriptc import __version__
+    from scriptc.numbers import json_dumps
 
     pairs = _pairs(results)
     codes = sorted({d.code for _source, ds in pairs for d in ds})
@@ -456,7 +456,7 @@ def render_sarif(results: Sequence[Any]) -> str:
     base = repository_root(".") or os.getcwd()
     log["runs"][0]["originalUriBaseIds"] = {
         SRCROOT: {"uri": Path(base).absolute().as_uri().rstrip("/") + "/"}}
-    return json.dumps(log, indent=2, ensure_ascii=False) + "\n"
+    return json_dumps(log, indent=2, ensure_ascii=False) + "\n"
 
 
 # ---------------------------------------------------------------------------------------------
