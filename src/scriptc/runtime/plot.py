@@ -275,9 +275,18 @@ def draw_run(events: list[dict], samples=None, scenario=None):
 
 
 def plot_run(events: list[dict], path: str, samples=None, scenario=None) -> None:
-    """Draw the run into `path` (.png or .svg)."""
+    """Draw the run into `path` (.png or .svg; WriteError when it cannot be written)."""
     from matplotlib import pyplot as plt
 
     fig = draw_run(events, samples, scenario)
-    fig.savefig(path)
+    # Drawn into memory, then written by the one writer (a link's target, a FIFO, a file
+    # replaced atomically; WriteError when it cannot be written).
+    import io
+    import os
+
+    from scriptc.writing import write_file
+
+    picture = io.BytesIO()
+    fig.savefig(picture, format=os.path.splitext(path)[1].lstrip(".").lower())
     plt.close(fig)
+    write_file(path, picture.getvalue())
