@@ -198,6 +198,29 @@ def test_found_by_walking_up_and_scriptc_toml_wins(tmp_path: Path) -> None:
     assert find_config(str(deep / "x.script")) == str(tmp_path / "a" / "b" / "scriptc.toml")
 
 
+def test_the_candidates_stop_at_the_nearest_configuration(tmp_path: Path) -> None:
+    """What a watcher of one file's configuration must watch: both names in every folder
+    from the file's up to the nearest configuration's, whether they exist or not."""
+    from scriptc.config.load import config_candidates
+
+    deep = tmp_path / "a" / "b"
+    deep.mkdir(parents=True)
+    (tmp_path / "a" / "pyproject.toml").write_text("[tool.scriptc.lint]\nignore = []\n")
+    names = ["scriptc.toml", "pyproject.toml"]
+    expected = [str(folder / name) for folder in (deep, tmp_path / "a") for name in names]
+    assert config_candidates(str(deep / "x.script")) == expected
+    assert config_candidates(str(deep)) == expected
+    (deep / "scriptc.toml").write_text("")
+    assert config_candidates(str(deep / "x.script")) == expected[:2]
+    (tmp_path / "a" / "pyproject.toml").unlink()
+    (deep / "scriptc.toml").unlink()
+    walked = config_candidates(str(deep / "x.script"))
+    assert walked[:4] == expected
+    above = find_config(str(deep))  # None, unless a folder above tmp_path has a configuration
+    last = Path(above).parent if above else Path("/")  # with none, up to the root
+    assert walked[-2:] == [str(last / name) for name in names]
+
+
 @pytest.mark.parametrize("text, configures", [
     ('[tool.scriptc]\naudio-root = "a"\n', True),
     ("[tool.scriptc.lint]\n", True),

@@ -178,15 +178,23 @@ def test_the_editor_api_does_not_import_the_protocol():
     assert out.stdout.strip() == "[]"
 
 
-def test_diagnostics_are_pushed_unless_the_client_pulls():
+def test_diagnostics_are_pushed_unless_the_client_pulls_and_can_be_asked_to_again():
     from scriptc.server.main import diagnostic_modes
 
     plain = lsp.ClientCapabilities(text_document=lsp.TextDocumentClientCapabilities())
     pulling = lsp.ClientCapabilities(text_document=lsp.TextDocumentClientCapabilities(
+        diagnostic=lsp.DiagnosticClientCapabilities()),
+        workspace=lsp.WorkspaceClientCapabilities(
+            diagnostics=lsp.DiagnosticWorkspaceClientCapabilities(refresh_support=True)))
+    # Neovim 0.10 and newer: pulls, takes no refresh (a change of configuration could not
+    # reach it): pushed.
+    neovim = lsp.ClientCapabilities(text_document=lsp.TextDocumentClientCapabilities(
         diagnostic=lsp.DiagnosticClientCapabilities()))
     assert diagnostic_modes(plain, None) == (True, False)
     assert diagnostic_modes(None, None) == (True, False)
     assert diagnostic_modes(pulling, None) == (False, True)
+    assert diagnostic_modes(neovim, None) == (True, False)
+    assert diagnostic_modes(neovim, {"diagnostics": "pull"}) == (False, True)
     assert diagnostic_modes(pulling, {"diagnostics": "both"}) == (True, True)
     assert diagnostic_modes(plain, {"diagnostics": "pull"}) == (False, True)
     assert diagnostic_modes(plain, {"diagnostics": "nonsense"}) == (True, False)

@@ -26,16 +26,22 @@ TIMEOUT = 20.0
 
 def make_client() -> LanguageClient:
     """pytest-lsp's client, which also keeps the version of the last diagnostics published
-    for each document (`client.published[uri]`)."""
+    for each document (`client.published[uri]`) and counts the server's requests to pull
+    every document's diagnostics again (`client.refreshes`, `workspace/diagnostic/refresh`)."""
     client = LanguageClient(converter_factory=default_converter)
     client.published = {}  # uri -> PublishDiagnosticsParams
+    client.refreshes = 0
 
     def publish(client: LanguageClient, params: lsp.PublishDiagnosticsParams) -> None:
         client.diagnostics[params.uri] = params.diagnostics
         client.published[params.uri] = params
 
+    def refresh(client: LanguageClient, params: None) -> None:
+        client.refreshes += 1
+
     features = dict(DEFAULT_CLIENT_FEATURES)
     features[lsp.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS] = publish
+    features[lsp.WORKSPACE_DIAGNOSTIC_REFRESH] = refresh
     register_lsp_features(client, features)
     return client
 
@@ -43,11 +49,19 @@ def make_client() -> LanguageClient:
 CONFIG = ClientServerConfig(server_command=SERVER_COMMAND, client_factory=make_client)
 
 
-def capabilities(*, pull: bool = False, snippets: bool = True,
+def capabilities(*, pull: bool = False, refresh: bool = True, watch: bool = False,
+                 snippets: bool = True,
                  encodings: tuple[str, ...] = ("utf-16",)) -> lsp.ClientCapabilities:
-    """The tests' client capabilities; `encodings`: the position encodings offered, in order
-    of preference."""
+    """The tests' client capabilities. `pull`: the client can pull diagnostics, and with
+    `refresh` be asked to pull them again (as VS Code; Neovim pulls without `refresh`);
+    `watch`: it watches the files the server asks it to; `encodings`: the position
+    encodings offered, in order of preference."""
     return lsp.ClientCapabilities(
+        workspace=lsp.WorkspaceClientCapabilities(
+            did_change_watched_files=lsp.DidChangeWatchedFilesClientCapabilities(
+                dynamic_registration=True) if watch else None,
+            diagnostics=lsp.DiagnosticWorkspaceClientCapabilities(refresh_support=True)
+            if pull and refresh else None),
         text_document=lsp.TextDocumentClientCapabilities(
             completion=lsp.CompletionClientCapabilities(
                 completion_item=lsp.ClientCompletionItemOptions(snippet_support=snippets)),

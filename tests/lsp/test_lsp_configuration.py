@@ -1,6 +1,8 @@
 """The repository's configuration in the language server: the server asks a client that can
-watch files to watch `scriptc.toml` and `pyproject.toml`, and when one changes, every open
-document reads its configuration again and gets new diagnostics."""
+watch files to watch `scriptc.toml` and `pyproject.toml`, and looks at them itself for a
+client that cannot (Neovim on Linux); when one changes, every open document reads its
+configuration again and gets new diagnostics: pushed again, or pulled again at the server's
+request (`workspace/diagnostic/refresh`)."""
 
 from __future__ import annotations
 
@@ -36,11 +38,7 @@ def watching_client() -> LanguageClient:
 @pytest_lsp.fixture(scope="module", config=ClientServerConfig(
     server_command=SERVER_COMMAND, client_factory=watching_client))
 async def client(lsp_client: LanguageClient):
-    caps = capabilities()
-    caps.workspace = lsp.WorkspaceClientCapabilities(
-        did_change_watched_files=lsp.DidChangeWatchedFilesClientCapabilities(
-            dynamic_registration=True))
-    await lsp_client.initialize_session(lsp.InitializeParams(capabilities=caps))
+    await lsp_client.initialize_session(lsp.InitializeParams(capabilities=capabilities(watch=True)))
     yield
     await lsp_client.shutdown_session()
 
@@ -127,4 +125,68 @@ async def test_the_robot_profile_of_the_configuration_applies(client, tmp_path):
     got = await renewed(client, doc, lsp.FileEvent(config.as_uri(), lsp.FileChangeType.Changed))
     assert [d.code for d in got] == ["K001"]
     assert "above the robot profile's 0.5 m/s" in got[0].message
+    doc.close()
+
+
+# Clients that watch no files, by how they get diagnostics.
+UNWATCHING = {
+    "push": {},  # Emacs's eglot, Helix
+    "pull, no refresh": {"pull": True, "refresh": False},  # Neovim 0.10 and newer, on Linux
+    "pull and refresh": {"pull": True},
+}
+
+
+@pytest_lsp.fixture(scope="module", config=ClientServerConfig(
+    server_command=SERVER_COMMAND, client_factory=watching_client),
+    params=list(UNWATCHING), ids=list(UNWATCHING))
+async def unwatching(lsp_client: LanguageClient, request):
+    lsp_client.kind = request.param
+    lsp_client.init_result = await lsp_client.initialize_session(lsp.InitializeParams(
+        capabilities=capabilities(**UNWATCHING[request.param])))
+    yield
+    await lsp_client.shutdown_session()
+
+
+async def current(client: LanguageClient, doc: Doc, pulls: bool, refreshed: int) -> list[str]:
+    """The codes of the document's diagnostics once the server has renewed them on its own:
+    pushed anew, or pulled after the server's request to pull again."""
+    async def wait():
+        if pulls:
+            while client.refreshes == refreshed:
+                await asyncio.sleep(0.05)
+            report = await client.text_document_diagnostic_async(lsp.DocumentDiagnosticParams(doc.id))
+            return [d.code for d in report.items]
+        return [d.code for d in await doc.diagnostics()]
+
+    return await asyncio.wait_for(wait(), TIMEOUT)
+
+
+async def test_a_client_that_watches_nothing_gets_the_changes_all_the_same(unwatching, tmp_path):
+    """No file events: the server sees the configuration change by itself. A client that
+    pulls but takes no request to pull again (Neovim) is pushed to instead, and is not
+    offered pull diagnostics (it would show them twice)."""
+    client = unwatching
+    pulls = client.kind == "pull and refresh"
+    assert (client.init_result.capabilities.diagnostic_provider is not None) == pulls
+    assert client.registrations == []  # nothing to watch asked of a client that cannot
+    config = tmp_path / "scriptc.toml"
+    config.write_text('[lint]\nignore = ["F001"]\n', encoding="utf-8")
+    doc = Doc(client, (tmp_path / "activity.script").as_uri(), TEXT)
+    client.text_document_did_open(lsp.DidOpenTextDocumentParams(
+        lsp.TextDocumentItem(doc.uri, "scriptc", doc.version, TEXT)))
+    refreshed = client.refreshes
+    if pulls:
+        report = await client.text_document_diagnostic_async(lsp.DocumentDiagnosticParams(doc.id))
+        assert list(report.items) == []
+    else:
+        assert await doc.diagnostics() == []
+    client.published.pop(doc.uri, None)
+    config.write_text('[lint]\nselect = ["F"]\n', encoding="utf-8")
+    assert await current(client, doc, pulls, refreshed) == ["F001"]
+    client.published.pop(doc.uri, None)
+    refreshed = client.refreshes
+    config.unlink()
+    (tmp_path / "pyproject.toml").write_text('[tool.scriptc.lint]\nignore = ["F"]\n',
+                                             encoding="utf-8")
+    assert await current(client, doc, pulls, refreshed) == []
     doc.close()

@@ -104,6 +104,24 @@ def find_config(start: str) -> str | None:
         folder = parent
 
 
+def config_candidates(start: str) -> list[str]:
+    """The files whose creation, change or deletion can change the configuration of `start`
+    (a file or a folder), existing or not: the configuration files its folder and each folder
+    above may hold, up to the folder of the nearest configuration (what is above it does not
+    count while it is there). For a watcher of the configuration (the language server's,
+    when the editor watches no files)."""
+    folder = os.path.abspath(start)
+    if not os.path.isdir(folder):
+        folder = os.path.dirname(folder)
+    out: list[str] = []
+    while True:
+        out += [os.path.join(folder, name) for name in CONFIG_FILES]
+        parent = os.path.dirname(folder)
+        if config_in(folder) is not None or parent == folder:
+            return out
+        folder = parent
+
+
 class ConfigFile(NamedTuple):
     """A configuration file read: its settings, its text and what is wrong in it."""
 

@@ -49,6 +49,7 @@ from __future__ import annotations
 import asyncio
 import gc
 import logging
+import os
 import sys
 import threading
 
@@ -61,6 +62,7 @@ from pygls.protocol.json_rpc import JsonRPCResponseMessage
 from scriptc import __version__
 from scriptc.ide import actions, completion, formatting, hints, hover, navigation, outline, tokens
 from scriptc.ide.document import Document
+from scriptc.config.load import CONFIG_FILES
 from scriptc.ide.model import RenameError
 from scriptc.server import convert
 
@@ -119,6 +121,16 @@ class Protocol(LanguageServerProtocol):
             return {"id": data.id, "jsonrpc": data.jsonrpc, "result": data.result.value}
         return super()._serialize_message(data)
 
+    @lsp_method(lsp.INITIALIZE)
+    def lsp_initialize(self, params):
+        """pygls's, with pull diagnostics offered only to a client that will pull them
+        (`diagnostic_modes`): a client that can pull pulls whenever the server offers it,
+        and would show pushed diagnostics a second time."""
+        result = yield from super().lsp_initialize(params)
+        if not self._server.pull:
+            result.capabilities.diagnostic_provider = None
+        return result
+
     @lsp_method(lsp.TEXT_DOCUMENT_DID_OPEN)
     def lsp_text_document__did_open(self, params):
         if (handler := self.fm.features.get(lsp.TEXT_DOCUMENT_DID_OPEN)) is not None:
@@ -150,6 +162,11 @@ class ScriptcServer(LanguageServer):
         # The position encoding agreed at `initialize` (the client's first offer that
         # pygls supports, answered as `positionEncoding`): every position is counted in it.
         self.encoding = convert.UTF16
+        # For a client that watches no files: the configuration files each open document's
+        # configuration depends on, as `os.stat` saw them when it was read (None: absent).
+        self.watching = False  # the client reports changes to the configuration files
+        self._stamps: dict[str, dict[str, tuple | None]] = {}
+        self._poll: asyncio.TimerHandle | None = None
 
     # -- documents ---------------------------------------------------------------------------
 
@@ -174,6 +191,48 @@ class ScriptcServer(LanguageServer):
         gc.freeze()
         self._schedule_collect()
         return snapshot
+
+    # -- the repository's configuration ---------------------------------------------------------
+
+    def configure(self, uri: str, text: str, version: int | None) -> Document:
+        """The document with its repository's configuration (`_configured`), noting, for a
+        client that watches no files, what the configuration files looked like first."""
+        if self._poll is not None and uri.startswith("file:"):
+            from scriptc.config.load import config_candidates
+
+            self._stamps[uri] = {path: _stamp(path) for path in config_candidates(_path(uri))}
+        return _configured(uri, text, version)
+
+    def reconfigure(self) -> None:
+        """A configuration file was created, changed or deleted: every open document reads
+        its configuration again (as `scriptc lint` would now) and its diagnostics are renewed:
+        pushed again, or pulled again at the server's request."""
+        for uri, doc in list(self.documents.items()):
+            self.documents[uri] = fresh = self.configure(uri, doc.text, doc.version)
+            self.publish(fresh)
+        workspace = self.client_capabilities.workspace
+        refresh = workspace.diagnostics if workspace is not None else None
+        if self.pull and refresh is not None and refresh.refresh_support:
+            self.workspace_diagnostic_refresh(None)
+
+    def watch_configuration(self) -> None:
+        """Look at the configuration files every CONFIGURATION_POLL_SECONDS, for a client
+        that does not report their changes."""
+        try:
+            loop = asyncio.get_running_loop()
+        except RuntimeError:  # no event loop (handlers called directly)
+            return
+        self._poll = loop.call_later(CONFIGURATION_POLL_SECONDS, self._look_at_configuration)
+
+    def _look_at_configuration(self) -> None:
+        self.watch_configuration()
+        for uri in [uri for uri in self._stamps if uri not in self.documents]:
+            del self._stamps[uri]  # closed
+        for stamps in self._stamps.values():
+            if any(_stamp(path) != seen for path, seen in stamps.items()):
+                log.info("a configuration file changed: reading the configuration again")
+                self.reconfigure()
+                return
 
     def _schedule_collect(self) -> None:
         try:
@@ -235,11 +294,16 @@ def _path(uri: str) -> str:
 
 
 def diagnostic_modes(capabilities: lsp.ClientCapabilities | None, options) -> tuple[bool, bool]:
-    """(push, pull): push unless the client can pull (then it pulls, and nothing is pushed,
-    or an editor would show every diagnostic twice); `initializationOptions.diagnostics`
-    ("push", "pull" or "both") overrides."""
+    """(push, pull): the client pulls when it can pull and can be asked to pull again
+    (`workspace/diagnostic/refresh`: a change of configuration changes the diagnostics of
+    documents nobody edited), and then nothing is pushed, or an editor would show every
+    diagnostic twice; otherwise the server pushes (Neovim pulls, but takes no refresh).
+    `initializationOptions.diagnostics` ("push", "pull" or "both") overrides."""
     text = capabilities.text_document if capabilities else None
-    can_pull = text is not None and text.diagnostic is not None
+    workspace = capabilities.workspace if capabilities else None
+    refresh = workspace.diagnostics if workspace is not None else None
+    can_pull = (text is not None and text.diagnostic is not None
+                and refresh is not None and bool(refresh.refresh_support))
     mode = options.get("diagnostics") if isinstance(options, dict) else None
     if mode not in ("push", "pull", "both"):
         mode = "pull" if can_pull else "push"
@@ -274,8 +338,18 @@ def shutdown(ls: ScriptcServer, params: None) -> None:
     ls._dirty.clear()
 
 
-# The configuration files `scriptc lint` reads (docs/configuration.md).
-CONFIGURATION_FILES = ("scriptc.toml", "pyproject.toml")
+# How often the server looks at the configuration files of the open documents itself, when
+# the client does not watch them (a few `os.stat` calls each time).
+CONFIGURATION_POLL_SECONDS = 1.0
+
+
+def _stamp(path: str) -> tuple | None:
+    """What tells that a file was created, changed or deleted (None: it does not exist)."""
+    try:
+        st = os.stat(path)
+    except OSError:
+        return None
+    return st.st_mtime_ns, st.st_size, st.st_ino, st.st_ctime_ns
 
 
 @SERVER.feature(lsp.INITIALIZED)
@@ -285,9 +359,11 @@ def initialized(ls: ScriptcServer, params: lsp.InitializedParams) -> None:
     workspace = ls.client_capabilities.workspace
     watched = workspace.did_change_watched_files if workspace is not None else None
     if watched is None or not watched.dynamic_registration:
+        ls.watch_configuration()  # the server looks at the files itself
         return
+    ls.watching = True
     options = lsp.DidChangeWatchedFilesRegistrationOptions(
-        watchers=[lsp.FileSystemWatcher(glob_pattern=f"**/{name}") for name in CONFIGURATION_FILES])
+        watchers=[lsp.FileSystemWatcher(glob_pattern=f"**/{name}") for name in CONFIG_FILES])
     ls.client_register_capability(lsp.RegistrationParams(registrations=[lsp.Registration(
         id="scriptc-configuration", method=lsp.WORKSPACE_DID_CHANGE_WATCHED_FILES,
         register_options=options)]))
@@ -295,18 +371,11 @@ def initialized(ls: ScriptcServer, params: lsp.InitializedParams) -> None:
 
 @SERVER.feature(lsp.WORKSPACE_DID_CHANGE_WATCHED_FILES)
 def did_change_watched_files(ls: ScriptcServer, params: lsp.DidChangeWatchedFilesParams) -> None:
-    """A configuration file was created, changed or deleted: every open document reads its
-    configuration again (as `scriptc lint` would now) and its diagnostics are renewed."""
+    """The client reports a change to files it watches: a configuration file's renews the
+    configuration of every open document (`ScriptcServer.reconfigure`)."""
     names = {_path(change.uri).replace("\\", "/").rsplit("/", 1)[-1] for change in params.changes}
-    if not names & set(CONFIGURATION_FILES):
-        return
-    for uri, doc in list(ls.documents.items()):
-        ls.documents[uri] = fresh = _configured(uri, doc.text, doc.version)
-        ls.publish(fresh)
-    workspace = ls.client_capabilities.workspace
-    refresh = workspace.diagnostics if workspace is not None else None
-    if ls.pull and refresh is not None and refresh.refresh_support:
-        ls.workspace_diagnostic_refresh(None)
+    if names & set(CONFIG_FILES):
+        ls.reconfigure()
 
 
 def _configured(uri: str, text: str, version: int | None) -> Document:
@@ -337,7 +406,7 @@ def _configured(uri: str, text: str, version: int | None) -> Document:
 @SERVER.feature(lsp.TEXT_DOCUMENT_DID_OPEN)
 def did_open(ls: ScriptcServer, params: lsp.DidOpenTextDocumentParams) -> None:
     item = params.text_document
-    doc = ls.documents[item.uri] = _configured(item.uri, item.text, item.version)
+    doc = ls.documents[item.uri] = ls.configure(item.uri, item.text, item.version)
     ls.publish(doc)
 
 
