@@ -144,6 +144,8 @@ _USERS_FILES = {
     "out/dance_example.json", "out/dance_8.json", "./activities/x.script", "a/x.script",
     "/home/me/robot/activities/x.script", "/top.script", "dir/", ".vscode/settings.json",
     ".helix/languages.toml", "node_modules/",
+    # made by the tools, ignored by git: absent from a fresh clone
+    ".scriptc_cache/",
 }
 # A named path: in backquotes, with a `/` and a file's suffix (or a folder's final `/`).
 _PATH = re.compile(r"`(\.{0,2}/?[A-Za-z0-9_.-]+(?:/[A-Za-z0-9_.-]+)*/?)`")
