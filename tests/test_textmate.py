@@ -47,6 +47,6 @@ def test_vsix_builds_and_grammar_tests_pass() -> None:
     output = done.stdout + done.stderr
     assert done.returncode == 0, output[-4000:]
     assert "== ok" in done.stdout
-    for name in ("items", "blocks", "conditions", "comments"):
+    for name in ("items", "blocks", "conditions", "comments", "strings"):
         assert f"tests/{name}.test.script run successfuly" in done.stdout
     assert (VSCODE / "scriptc.vsix").is_file()
