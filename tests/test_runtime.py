@@ -585,7 +585,8 @@ def test_a_jsonmsg_text_is_pointed_into(tmp_path: Path) -> None:
     update = '{"at": 0, "objectid": "Human/k", "attributename": "poses", "policy": "R", '
     path.write_text('{"updates": [\n' + update + '"jsonmsg": "{\\"positionrho\\": NaN}"},\n'
                     + update + '"jsonmsg": "{\\"positionrhoo\\": 1}"},\n'
-                    + update + '"jsonmsg": {"positiontheta": "left"}}]}', encoding="utf-8")
+                    + update + '"jsonmsg": {"positiontheta": "left"}},\n'
+                    + update + '"jsonmsg": {"positionrhoo": 1}}]}', encoding="utf-8")
     with pytest.raises(ScenarioError) as info:
         load_scenario(str(path))
     lines = path.read_text(encoding="utf-8").splitlines()
@@ -597,7 +598,10 @@ def test_a_jsonmsg_text_is_pointed_into(tmp_path: Path) -> None:
              "jsonmsg of `poses` has an unknown key `positionrhoo` (did you mean "
              "`positionrho`?)"),
             ((4, lines[3].index('"left"') + 1),
-             "`positiontheta` in the jsonmsg of `poses` must be a number, found \"left\"")]
+             "`positiontheta` in the jsonmsg of `poses` must be a number, found \"left\""),
+            ((5, lines[4].index('"positionrhoo"') + 1),
+             "jsonmsg of `poses` has an unknown key `positionrhoo` (did you mean "
+             "`positionrho`?)")]
 
 
 @pytest.mark.parametrize("world, problem", [

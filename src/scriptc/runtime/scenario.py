@@ -241,7 +241,7 @@ def _update_span(item: JsonNode, exc: UpdateError, text: str) -> Span:
     if exc.key is not None and node.kind == "object":
         inner = node.member(exc.key)
         if inner is not None:
-            return inner.key_span if "unknown key" in str(exc) else inner.value.span
+            return inner.key_span if exc.unknown_key else inner.value.span
     return node.span
 
 

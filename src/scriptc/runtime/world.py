@@ -87,13 +87,15 @@ class UpdateError(ValueError):
     attribute does not allow, a `jsonmsg` of the wrong shape). Where the problem is, for a
     reader that knows where the update was written (a scenario file): `field` is the update's
     field it is about (`objectid`, `attributename`, `policy`, `jsonmsg`), `key` the key of the
-    jsonmsg's record, and `span` the offending text inside a jsonmsg given as text."""
+    jsonmsg's record (`unknown_key`: the key itself is wrong, not its value), and `span` the
+    offending text inside a jsonmsg given as text."""
 
     def __init__(self, message: str, *, field: str = "jsonmsg", key: str | None = None,
-                 span: Span | None = None) -> None:
+                 unknown_key: bool = False, span: Span | None = None) -> None:
         super().__init__(message)
         self.field = field
         self.key = key
+        self.unknown_key = unknown_key
         self.span = span
 
 
@@ -235,7 +237,7 @@ def parse_update(objectid: str, attributename: str, policy: str, jsonmsg: Any) -
             key_kind = kind.get(key)
             if key_kind is None:
                 raise UpdateError(f"jsonmsg of `{attributename}` has an unknown key `{key}` "
-                                  f"{_choices(key, kind)}", key=key,
+                                  f"{_choices(key, kind)}", key=key, unknown_key=True,
                                   span=member.key_span if member is not None else None)
             try:
                 record[key] = _type_ok(key_kind, item)
