@@ -39,6 +39,7 @@ from scriptc.gcpause import gc_paused
 from scriptc.ir import nodes as ir
 from scriptc.ir.values import read_number
 from scriptc.language import name_problem
+from scriptc.numbers import MAX_DIGITS, whole_number
 from scriptc.source import SourceFile, Span
 from scriptc.syntax.jsonpos import JsonError, JsonNode, Member, parse_json, string_offsets
 
@@ -51,6 +52,17 @@ _INDEXED = {"goal": re.compile(r"goal(0|[1-9][0-9]*)"), "act": re.compile(r"act(
 _PATH = re.compile(r"goal(0|[1-9][0-9]*)/act(0|[1-9][0-9]*)/blk(0|[1-9][0-9]*)")
 _ACTION_LETTERS = {65: "A", 82: "R", 68: "D", 66: "B", 67: "C"}
 _MUTEX_LETTERS = {76: "L", 77: "M", 85: "U"}
+
+
+# The index of a key or path written with more digits than any number holds (no file has that
+# many goals or blocks): larger than every other index, and never converted (scriptc.numbers).
+_HUGE_INDEX = 10 ** MAX_DIGITS
+
+
+def _index(digits: str) -> int:
+    """The number of `goalN`, `actN`, `blkN` (the digits of N, as the patterns match them)."""
+    value = whole_number(digits)
+    return _HUGE_INDEX if value is None else value
 
 
 def invented_label(address: tuple[int, int, int]) -> str:
@@ -425,7 +437,7 @@ def _fast_check() -> _Check | None:
 def _misnumbered_help(key: str) -> str | None:
     m = re.fullmatch(r"(goal|act|blk)0+([0-9]+)", key)
     if m:
-        return f"numbers have no leading zeros: `{m.group(1)}{int(m.group(2))}`"
+        return f"numbers have no leading zeros: `{m.group(1)}{m.group(2).lstrip('0') or '0'}`"
     return None
 
 
@@ -489,7 +501,7 @@ def _numbering_problems(root: JsonNode) -> list[Diagnostic]:
         indexed = []
         for m in node.members:
             if _INDEXED[prefix].fullmatch(m.key):
-                indexed.append((int(m.key[len(prefix):]), m))
+                indexed.append((_index(m.key[len(prefix):]), m))
         indexed.sort(key=lambda pair: pair[0])
         for expected, (index, m) in enumerate(indexed):
             if index != expected:
@@ -597,7 +609,7 @@ class _Reader:
     @staticmethod
     def indexed(node: JsonNode, prefix: str) -> list[Member]:
         pattern = _INDEXED[prefix]
-        found = [(int(m.key[len(prefix):]), m) for m in node.members if pattern.fullmatch(m.key)]
+        found = [(_index(m.key[len(prefix):]), m) for m in node.members if pattern.fullmatch(m.key)]
         found.sort(key=lambda pair: pair[0])
         return [m for _, m in found]
 
@@ -762,7 +774,7 @@ class _Reader:
         m = _PATH.fullmatch(path)
         if m:
             message = f"`{where}` is `{path}`, which names no block of the script"
-            name = invented_label((int(m.group(1)), int(m.group(2)), int(m.group(3))))
+            name = f"g{m.group(1)}_a{m.group(2)}_b{m.group(3)}"  # invented_label's form
             help_ = self._path_help(m)
         else:
             message = f"`{where}` is `{path}`, which is not a block path `goalG/actA/blkB`"
@@ -775,7 +787,7 @@ class _Reader:
         return ir.Name(name, span)
 
     def _path_help(self, m: re.Match) -> str:
-        g, a = int(m.group(1)), int(m.group(2))
+        g, a = _index(m.group(1)), _index(m.group(2))
         blocks = sorted(b for (gg, aa, b) in self.addresses.values() if gg == g and aa == a)
         if blocks:
             return (f"`goal{g}/act{a}` has blocks `blk0` to `blk{blocks[-1]}`")
