@@ -13,7 +13,7 @@ import pytest_lsp
 from lsprotocol import types as lsp
 from pytest_lsp import LanguageClient
 
-from lsptest import CONFIG, Doc, apply_edits, decode, start
+from lsptest import CASES, CONFIG, Doc, apply_edits, decode, start
 
 pytestmark = pytest.mark.asyncio(loop_scope="module")
 
@@ -32,15 +32,8 @@ async def client(lsp_client: LanguageClient, request):
     await lsp_client.shutdown_session()
 
 
-TEXT = """\
-% Un'attività: saluta, poi canta 🎵 %
-[saluto]
-[goal:g]
-  [action]
-    [b#start#blk_inst: MV() LD() AO("canzone_è.wav, 0, 100")] % è più bello 😀 %
-    % 🎵🎵 perché sì % [b##blk_jump: CND(! {TRUE}) TRJMP(strat) FLSJMP(start)]
-    [b##blk_terminus]
-"""
+# Italian comments, an accented file name and emoji (also the sample of tests/editors/).
+TEXT = (CASES / "checks" / "labels_after_non_ascii.script").read_text(encoding="utf-8")
 
 # The edits, as (what to find, where in it, how many characters to delete, what to insert):
 # each lands right after non-ASCII text on its line, and each, put a few characters off,

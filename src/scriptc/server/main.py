@@ -23,10 +23,9 @@ Decisions:
   requests are answered in every mode.
 - **The repository's configuration** applies as in `scriptc lint`: the functions a
   `scriptc.toml` declares, its robot profile and its policy (selection, per-file ignores,
-  severities), read when
-  the document is opened and again when a configuration file changes (the server asks the
-  client to watch `scriptc.toml` and `pyproject.toml` files; a client that cannot watch
-  files gets the configuration of the moment the document was opened).
+  severities), read when the document is opened and again when a configuration file is
+  created, changed or deleted: the server asks the client to watch `scriptc.toml` and
+  `pyproject.toml` files, and looks at them itself once a second as well (`initialized`).
 - **Codes link to their explanation**: a diagnostic's `codeDescription` is the explanation
   file shipped in the package (the codes have no public page). A hover on a code (in a
   suppression comment, say) shows it too, and the command `scriptc.explain CODE` returns it
@@ -162,9 +161,8 @@ class ScriptcServer(LanguageServer):
         # The position encoding agreed at `initialize` (the client's first offer that
         # pygls supports, answered as `positionEncoding`): every position is counted in it.
         self.encoding = convert.UTF16
-        # For a client that watches no files: the configuration files each open document's
-        # configuration depends on, as `os.stat` saw them when it was read (None: absent).
-        self.watching = False  # the client reports changes to the configuration files
+        # The configuration files each open document's configuration depends on, as
+        # `os.stat` saw them when it was read (None: absent): the server's own watch.
         self._stamps: dict[str, dict[str, tuple | None]] = {}
         self._poll: asyncio.TimerHandle | None = None
 
@@ -195,8 +193,8 @@ class ScriptcServer(LanguageServer):
     # -- the repository's configuration ---------------------------------------------------------
 
     def configure(self, uri: str, text: str, version: int | None) -> Document:
-        """The document with its repository's configuration (`_configured`), noting, for a
-        client that watches no files, what the configuration files looked like first."""
+        """The document with its repository's configuration (`_configured`), noting what
+        its configuration files looked like first (`watch_configuration`)."""
         if self._poll is not None and uri.startswith("file:"):
             from scriptc.config.load import config_candidates
 
@@ -216,8 +214,8 @@ class ScriptcServer(LanguageServer):
             self.workspace_diagnostic_refresh(None)
 
     def watch_configuration(self) -> None:
-        """Look at the configuration files every CONFIGURATION_POLL_SECONDS, for a client
-        that does not report their changes."""
+        """Look at the open documents' configuration files every CONFIGURATION_POLL_SECONDS
+        (see `initialized`)."""
         try:
             loop = asyncio.get_running_loop()
         except RuntimeError:  # no event loop (handlers called directly)
@@ -338,8 +336,8 @@ def shutdown(ls: ScriptcServer, params: None) -> None:
     ls._dirty.clear()
 
 
-# How often the server looks at the configuration files of the open documents itself, when
-# the client does not watch them (a few `os.stat` calls each time).
+# How often the server looks at the configuration files of the open documents itself (a few
+# `os.stat` calls each time).
 CONFIGURATION_POLL_SECONDS = 1.0
 
 
@@ -354,14 +352,16 @@ def _stamp(path: str) -> tuple | None:
 
 @SERVER.feature(lsp.INITIALIZED)
 def initialized(ls: ScriptcServer, params: lsp.InitializedParams) -> None:
-    """Ask the client to report changes to the configuration files, when it can (the
-    protocol's way: the editor watches the files, not the server)."""
+    """Watch the configuration files: ask the client to report their changes, when it can
+    (the protocol's way, and the quickest), and look at them once a second all the same:
+    many editors watch no files (Neovim on Linux), and an editor's watch fails silently
+    when the system's limit of watches is reached (inotify's, on Linux), or in a batch
+    Emacs, which handles no file events."""
+    ls.watch_configuration()
     workspace = ls.client_capabilities.workspace
     watched = workspace.did_change_watched_files if workspace is not None else None
     if watched is None or not watched.dynamic_registration:
-        ls.watch_configuration()  # the server looks at the files itself
         return
-    ls.watching = True
     options = lsp.DidChangeWatchedFilesRegistrationOptions(
         watchers=[lsp.FileSystemWatcher(glob_pattern=f"**/{name}") for name in CONFIG_FILES])
     ls.client_register_capability(lsp.RegistrationParams(registrations=[lsp.Registration(
