@@ -23,7 +23,8 @@ _BARE_KEY = re.compile(r"[A-Za-z0-9_-]+")
 
 
 def toml_value(value) -> str:
-    """A value as TOML writes it inline (strings as JSON writes them: TOML reads that)."""
+    """A setting's value (a boolean, number, string, list or dict) as TOML writes it inline
+    (strings as JSON writes them: TOML reads that)."""
     if isinstance(value, bool):
         return "true" if value else "false"
     if isinstance(value, (int, float)):
@@ -32,13 +33,11 @@ def toml_value(value) -> str:
         return json.dumps(value, ensure_ascii=False)
     if isinstance(value, list):
         return "[" + ", ".join(toml_value(v) for v in value) + "]"
-    if isinstance(value, dict):
-        if not value:
-            return "{}"
-        items = (f"{k if _BARE_KEY.fullmatch(k) else json.dumps(k)} = {toml_value(v)}"
-                 for k, v in value.items() if v is not None)
-        return "{ " + ", ".join(items) + " }"
-    return json.dumps(value)
+    if not value:  # what is left is a table (a dict), written inline
+        return "{}"
+    items = (f"{k if _BARE_KEY.fullmatch(k) else json.dumps(k)} = {toml_value(v)}"
+             for k, v in value.items() if v is not None)
+    return "{ " + ", ".join(items) + " }"
 
 
 def _origin(setting) -> str:
