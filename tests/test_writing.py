@@ -179,6 +179,23 @@ def test_a_socket_is_sent_the_data(tmp_path: Path) -> None:
     assert stat.S_ISSOCK(os.lstat(path).st_mode)
 
 
+def test_the_name_of_a_descriptor_is_written_to(here: Path) -> None:
+    """`-o /dev/stdout`: to whatever stdout is open on, a pipe or a file the shell opened to
+    append to (never replaced: what was in it stays)."""
+    piped = subprocess.run([sys.executable, "-m", "scriptc", "compile", "clean.script", "-o",
+                            "/dev/stdout"], capture_output=True, cwd=here, timeout=60)
+    assert (piped.returncode, piped.stdout, piped.stderr) == (0, expected_json(), b"")
+    log = here / "log.txt"
+    log.write_bytes(b"before\n")
+    with open(log, "ab") as appended:
+        result = subprocess.run([sys.executable, "-m", "scriptc", "compile", "clean.script",
+                                 "-o", "/dev/stdout"], stdout=appended, stderr=subprocess.PIPE,
+                                cwd=here, timeout=60)
+    assert (result.returncode, result.stderr) == (0, b"")
+    assert log.read_bytes() == b"before\n" + expected_json()
+    assert leftovers(here) == []
+
+
 def test_dash_is_stdout(here: Path) -> None:
     result = subprocess.run([sys.executable, "-m", "scriptc", "compile", "clean.script",
                              "--emit", "bytecode", "-o", "-"], capture_output=True, cwd=here,
@@ -207,7 +224,8 @@ def test_a_folder_or_a_missing_folder_is_refused_before_the_work(here: Path) -> 
     (here / "file").write_text("", encoding="utf-8")
     under_a_file = run("decompile", "x.json", "-o", "file/x.script")
     assert (under_a_file.exit_code, under_a_file.stderr) == (
-        2, "error: cannot write `file/x.script`: `file` is not a folder\n")
+        2, "error: cannot write `file/x.script`: `file` is not a folder (choose another "
+           "path)\n")
     assert not (here / "nodir").exists() and list((here / "adir").iterdir()) == []
 
 

@@ -55,34 +55,59 @@ def _folder_of(path: str) -> str:
     return os.path.dirname(path) or "."
 
 
-def check_target(path: str) -> None:
-    """Raise WriteError when `path` cannot receive an output: a folder, a parent folder that is
-    missing, not a folder, or not writable. Call it before the work whose result the file will
-    hold, so that nothing is computed for nothing. `-` (stdout) always passes."""
-    if path == STDOUT:
-        return
-    target = os.path.realpath(path)
+def _names_a_descriptor(path: str) -> bool:
+    """Whether `path` leads, link by link, to an open file descriptor (`/dev/stdout` is a link
+    to `/proc/self/fd/1`; `/dev/fd/N`): writing it means writing to that descriptor, whatever
+    it is open on (a pipe, a terminal, a file the shell redirected, perhaps to append)."""
+    path = os.path.abspath(path)
+    for _hop in range(40):
+        if path.startswith(("/proc/", "/dev/fd/")):
+            return True
+        try:
+            link = os.readlink(path)
+        except OSError:
+            return False
+        path = os.path.normpath(os.path.join(os.path.dirname(path), link))
+    return False
+
+
+def _plan(path: str) -> tuple[bool, str, os.stat_result | None]:
+    """How `path` is written: (direct, target, stat). `direct` for a device, FIFO, socket or
+    open descriptor, written to as it is (`target` is `path`); otherwise a regular file, or a
+    new one, replaced atomically at `target`, the end of its links. Raises WriteError for a
+    folder, and for a file whose folder is missing, not a folder or not writable."""
     try:
-        st = os.stat(target)
+        st = os.stat(path)  # links followed, the system's own (/dev/stdout) included
     except (FileNotFoundError, NotADirectoryError):
-        st = None  # a new file: its folder is checked below
+        st = None  # a new file (or a link to one): its folder is checked below
     except OSError as exc:
         raise WriteError(f"cannot write `{path}`: {_reason(exc)}") from None
     if st is not None and stat.S_ISDIR(st.st_mode):
         raise WriteError(f"cannot write `{path}`: it is a folder (give the path of a file)")
-    if st is not None and not stat.S_ISREG(st.st_mode):
-        return  # a device, FIFO or socket: written to directly, its folder does not matter
+    if st is not None and (not stat.S_ISREG(st.st_mode) or _names_a_descriptor(path)):
+        return True, path, st
     # A regular file, new or replaced, is written through a temporary file beside it.
+    target = os.path.realpath(path)
     shown = _folder_of(path) if target == os.path.abspath(path) else _folder_of(target)
     folder = _folder_of(target)
     if not os.path.isdir(folder):
         if os.path.lexists(folder):
-            raise WriteError(f"cannot write `{path}`: `{shown}` is not a folder")
+            raise WriteError(f"cannot write `{path}`: `{shown}` is not a folder (choose "
+                             "another path)")
         raise WriteError(f"cannot write `{path}`: the folder `{shown}` does not exist "
                          f"(create it first: mkdir -p {shown})")
     if not os.access(folder, os.W_OK | os.X_OK):
         raise WriteError(f"cannot write `{path}`: permission denied in the folder `{shown}` "
                          "(a file is replaced through a temporary file beside it)")
+    return False, target, st
+
+
+def check_target(path: str) -> None:
+    """Raise WriteError when `path` cannot receive an output: a folder, a parent folder that is
+    missing, not a folder, or not writable. Call it before the work whose result the file will
+    hold, so that nothing is computed for nothing. `-` (stdout) always passes."""
+    if path != STDOUT:
+        _plan(path)
 
 
 def write_file(path: str, data: str | bytes, *, exclusive: bool = False) -> None:
@@ -98,22 +123,19 @@ def write_file(path: str, data: str | bytes, *, exclusive: bool = False) -> None
         return
     if exclusive and os.path.lexists(path):
         raise FileExistsError(path)
-    check_target(path)
-    target = os.path.realpath(path)
+    direct, target, st = _plan(path)
     try:
-        try:
-            st = os.stat(target)
-        except FileNotFoundError:
-            st = None
-        if st is None or stat.S_ISREG(st.st_mode):
+        if not direct:
             if exclusive:
                 create_file(target, data)
             else:
                 replace_file(target, data, keep=st)
         elif stat.S_ISSOCK(st.st_mode):
             _send(target, data)
-        else:  # a device or a FIFO: its reader gets the bytes; it is never replaced
-            with open(target, "wb", buffering=0) as f:
+        else:
+            # A device, a FIFO, a descriptor: its reader gets the bytes; it is never replaced
+            # (appending: a descriptor may name a file the shell opened to append to).
+            with open(target, "ab", buffering=0) as f:
                 _write_all(f, data)
     except FileExistsError:
         raise
