@@ -172,6 +172,7 @@ async def bench(blocks: int, rounds: int, profile: str | None = None) -> dict:
 
     version = 1
     edit_times: dict[str, list[float]] = {"typing": [], "syntax": []}
+    cpu_before = cpu_seconds(client.process.pid)
     for start, end, new, kind in edits_for(text, rounds):
         rng = {"start": position(text, start), "end": position(text, end)}
         text = text[:start] + new + text[end:]
@@ -179,6 +180,7 @@ async def bench(blocks: int, rounds: int, profile: str | None = None) -> dict:
         edit_times[kind].append(await client.diagnostics_after("textDocument/didChange", {
             "textDocument": {"uri": URI, "version": version},
             "contentChanges": [{"range": rng, "text": new}]}, version))
+    edits_cpu = (cpu_seconds(client.process.pid) - cpu_before) / (version - 1)
 
     doc = {"uri": URI}
     requests: dict[str, list[float]] = {"completion (labels in TRJMP)": [], "hover on a block": [],
@@ -205,7 +207,7 @@ async def bench(blocks: int, rounds: int, profile: str | None = None) -> dict:
     labels = len(response["result"]["items"])
     await client.stop()
     return {"size": len(text.encode()), "blocks": blocks, "ready": ready, "open": opened,
-            "edits": edit_times, "requests": requests, "labels": labels}
+            "edits": edit_times, "requests": requests, "labels": labels, "edit_cpu": edits_cpu}
 
 
 async def bench_pygls(blocks: int, rounds: int) -> dict:
@@ -250,6 +252,13 @@ async def bench_pygls(blocks: int, rounds: int) -> dict:
     await client.stop()
     return {"size": len(text.encode()), "blocks": blocks, "ready": float("nan"),
             "open": float("nan"), "edits": edit_times, "requests": requests, "labels": None}
+
+
+def cpu_seconds(pid: int) -> float:
+    """The CPU time a process has used (user and system), in seconds (Linux: /proc/PID/stat):
+    unlike the latencies, it does not grow when other processes load the machine."""
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
 def rss_mib(pid: int) -> float:
@@ -345,6 +354,9 @@ def main() -> None:
     print(f"  edit -> diagnostics (one block):  {summary(every)}   target: median <= 60 ms")
     print(f"    of which typing in a number:    {summary(r['edits']['typing'])}")
     print(f"    of which breaking/repairing:    {summary(r['edits']['syntax'])}")
+    if r.get("edit_cpu") is not None:
+        print(f"  server CPU time per edit:        {ms(r['edit_cpu'])} (user + system, "
+              "the figure to compare on a loaded machine)")
     for name, values in r["requests"].items():
         print(f"  {name + ':':32} {summary(values)}   target: <= 20 ms")
     if r["labels"]:
