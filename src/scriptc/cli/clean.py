@@ -74,7 +74,7 @@ def command(ctx: click.Context, path: str, cache_dir: str | None) -> None:
     """Remove the cache folder of the project PATH is in (default: here), and the caches of
     sub-projects below PATH."""
     from scriptc.cache import default_cache_dir
-    from scriptc.config.load import shown_path
+    from scriptc.paths import shown_path
 
     main = cache_dir or default_cache_dir(path)
     candidates = [main, *caches_below(path)]

@@ -10,7 +10,8 @@ import os
 from dataclasses import dataclass, field
 from typing import Any
 
-from scriptc.config.load import Resolver, shown_path
+from scriptc.config.load import Resolver
+from scriptc.paths import shown_path
 from scriptc.config.model import ROBOT_KEYS, Settings
 from scriptc.diagnostics.model import Diagnostic, Severity
 

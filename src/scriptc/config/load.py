@@ -23,6 +23,7 @@ from scriptc.config.model import (ALL, ROBOT_KEYS, SEVERITIES, RobotProfile, Rul
 from scriptc.diagnostics.model import Diagnostic, diagnostic
 from scriptc.language import is_name
 from scriptc.numbers import MAX_DIGITS, number_problem
+from scriptc.paths import shown_path
 from scriptc.source import SourceFile, Span
 
 CONFIG_FILES = ("scriptc.toml", "pyproject.toml")
@@ -34,15 +35,6 @@ _ROBOT_MINIMUM = {"min-human-distance": (0, True), "max-led-flash-rate": (1, Tru
 
 _TOOL_TABLE = r"^[ \t]*\[[ \t]*tool[ \t]*\.[ \t]*[\"']?scriptc\b"
 _TOML_POSITION = r"\(at line (\d+), column (\d+)\)$"
-
-
-def shown_path(path: str) -> str:
-    """A path as diagnostics show it: relative to the working folder when inside it."""
-    try:
-        rel = os.path.relpath(path)
-    except ValueError:
-        return path
-    return path if rel == ".." or rel.startswith(".." + os.sep) else rel
 
 
 def _read(path: str) -> bytes | None:
