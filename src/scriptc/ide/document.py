@@ -1,11 +1,12 @@
 """A document open in an editor: its text, its version, and its analysis, kept current.
 
 Edits come as offsets (code points) with the new text; `scriptc.server.convert` turns the
-protocol's line/UTF-16 ranges into these. The text is kept in one canonical form: a UTF-16
-surrogate pair is always one code point, and a surrogate left alone (an edit that split an
-emoji, a client that sent half of one) stays a lone surrogate code point. That is exactly the
-client's text read as UTF-16, so offsets and UTF-16 columns never drift apart, whatever the
-edits.
+protocol's ranges (lines, and columns in the negotiated position encoding) into these. The
+text is kept in one canonical form: a UTF-16 surrogate pair is always one code point, and a
+surrogate left alone (an edit of a UTF-16 client that split an emoji, a client that sent half
+of one) stays a lone surrogate code point. That is exactly the client's text read as UTF-16,
+so offsets and UTF-16 columns never drift apart, whatever the edits (UTF-8 and UTF-32
+clients cannot split a character).
 
 `Document.snapshot()` analyses the current text if it changed (`scriptc.ide.incremental`)
 and returns the `Snapshot` every editor feature reads.
