@@ -41,6 +41,31 @@ def test_the_scanner_keeps_no_more_diagnostics_than_are_shown() -> None:
     assert len(scanned.items) == 20000
 
 
+def _cpu_seconds(text: str) -> tuple[float, list[str]]:
+    import time
+
+    start = time.process_time()
+    found = codes(text)
+    return time.process_time() - start, found
+
+
+def test_a_megabyte_of_blanks_in_an_audio_path_is_linear() -> None:
+    """The audio command's pattern retried the blanks from each of them: quadratic, a 1 MB
+    path of spaces never finished compiling (the fuzz campaign's `compile: hang`). Now about
+    0.1 s for 200,000 blanks; quadratic took minutes."""
+    text = HEAD + '[b##blk_inst: MV() LD() AO("so' + " " * 200_000 + 'ng.wav, 0, 10")]\n[b##blk_terminus]\n'
+    took, found = _cpu_seconds(text)
+    assert found == [] and took < 5, took
+
+
+def test_a_megabyte_of_blanks_before_a_syntax_error_is_linear() -> None:
+    """Naming the open parenthesis of a syntax error (`MV(`) searched for the word before it
+    with a regex anchored at the end, from each blank: quadratic (`fmt: hang`)."""
+    text = HEAD + "[b##blk_jump:" + " " * 200_000 + "CND(! {E: eq(1, }) TRJMP() FLSJMP()]\n"
+    took, found = _cpu_seconds(text)
+    assert found == ["P001"] and took < 5, took
+
+
 def test_unclosed_everything() -> None:
     assert codes('[act\n[goal:g\n[action\n[b##blk_inst: MV("1, 0') == ["P002", "P002", "P002", "P003"]
 

@@ -91,6 +91,11 @@ REGRESSIONS = {
     "names: check and decompile": "cases/json/read/reserved_activity_name.json",
     "slow: a million open brackets": "test_bad_input.py::test_the_scanner_keeps_no_more_diagnostics_than_are_shown",
     "config: nested too deep": "cases/config/too_deep.toml",
+    "check: 5,000-digit goal, action and block numbers": "cases/json/shape/huge_indexes.json",
+    "compile: hang, a megabyte of blanks in an audio path":
+        "test_bad_input.py::test_a_megabyte_of_blanks_in_an_audio_path_is_linear",
+    "fmt: hang, a megabyte of blanks before a syntax error":
+        "test_bad_input.py::test_a_megabyte_of_blanks_before_a_syntax_error_is_linear",
 }
 
 

@@ -22,9 +22,11 @@ NUMBER_RE = re.compile(NUMBER)
 def fields_pattern(count: int, text_first: bool = False) -> re.Pattern:
     """A command string of `count` comma-separated numbers (the first a non-empty text when
     `text_first`, which may itself hold commas, as an audio path), blanks around each: group i
-    is field i, trimmed as `str.strip` trims (`\\s` is `str.isspace`)."""
+    is field i, trimmed as `str.strip` trims (`\\s` is `str.isspace`). The text ends at a
+    non-blank (`\\S(?:.*?\\S)?`, not `\\S.*?` before the blanks: that form retried the blanks
+    at each of their characters, quadratic in a path holding a megabyte of spaces)."""
     field = rf"\s*({NUMBER})\s*"
-    parts = [r"\s*(\S.*?)\s*"] + [field] * (count - 1) if text_first else [field] * count
+    parts = [r"\s*(\S(?:.*?\S)?)\s*"] + [field] * (count - 1) if text_first else [field] * count
     return re.compile(",".join(parts), re.DOTALL)
 
 

@@ -134,6 +134,7 @@ _TERMINAL_WORDS = {
 }
 _OPENERS = {"(": ")", "{": "}", "[": "]"}
 _CLOSERS = {v: k for k, v in _OPENERS.items()}
+_WORD_CHARS = frozenset("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz_")
 _SKIP = re.compile(r'"(?:\\.|[^"\\])*"?|%[^%]*%?|[()\[\]{}]')
 
 
@@ -174,8 +175,18 @@ def _open_delimiter(text: str, upto: int) -> tuple[int, str] | None:
     if not stack:
         return None
     at = stack[-1]
-    word = re.search(r"[A-Za-z_]*\s*$", text[:at]).group().strip()
-    return at, (word + text[at]) if text[at] == "(" else text[at]
+    if text[at] != "(":
+        return at, text[at]
+    # The word before the parenthesis, blanks apart, read backwards: a regex anchored at the
+    # end (`[A-Za-z_]*\s*$`) retried the blanks from each of them, quadratic in a megabyte
+    # of spaces.
+    end = at
+    while end > 0 and text[end - 1].isspace():
+        end -= 1
+    start = end
+    while start > 0 and text[start - 1] in _WORD_CHARS:
+        start -= 1
+    return at, text[start:end] + "("
 
 
 def describe(error: UnexpectedInput, text: str, base: int, parser: Lark) -> Diagnostic:
