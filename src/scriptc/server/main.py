@@ -331,9 +331,11 @@ def initialize(ls: ScriptcServer, params: lsp.InitializeParams) -> None:
 def shutdown(ls: ScriptcServer, params: None) -> None:
     """The client is leaving: diagnostics still due are not sent (a client that sends
     `shutdown` and `exit` right after a change would otherwise have them written to a closed
-    stream while the server exits)."""
+    stream while the server exits), and the configuration is no longer watched."""
     ls.push = False
     ls._dirty.clear()
+    if ls._poll is not None:
+        ls._poll.cancel()
 
 
 # How often the server looks at the configuration files of the open documents itself (a few
