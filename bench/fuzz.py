@@ -52,7 +52,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--entry", action="append", choices=sorted(fuzzing.ENTRIES),
                         help="entry points to drive (default: all)")
     parser.add_argument("--save", type=Path, help="write the smallest input of each class here")
-    parser.add_argument("--slow", type=float, default=20.0,
+    parser.add_argument("--slow", type=float, default=60.0,
                         help="an input taking longer (s) is a failure of class `slow`")
     parser.add_argument("--hang", type=float, default=120.0,
                         help="an input still running after this (s) is stopped: `hang`")
