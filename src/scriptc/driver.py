@@ -534,7 +534,9 @@ def _worker_start() -> None:
 
 def _stop_workers(pool) -> None:
     """Stop a process pool at once: pending work cancelled, the workers terminated and
-    waited for (none is left behind)."""
+    waited for (none is left behind). `shutdown` alone would wait for the chunks already
+    running; the pool has no public way to terminate its workers before Python 3.14
+    (`terminate_workers`), so they are taken from its `_processes`."""
     processes = list((getattr(pool, "_processes", None) or {}).values())
     pool.shutdown(wait=False, cancel_futures=True)
     for process in processes:
