@@ -101,3 +101,24 @@ def test_ctrl_c_stops_lint_cleanly(folder: Path, tmp_path: Path, jobs: int,
     assert [pid for pid in workers if alive(pid)] == []
     assert sorted(p.name for p in cache.rglob("*") if not p.name.endswith(".json")
                   and p.is_file()) == [".gitignore", "CACHEDIR.TAG"]
+
+
+def test_busy_workers_are_stopped_at_once() -> None:
+    """The parent stops its workers with SIGTERM, which must reach them although they were
+    started with Ctrl-C and SIGTERM held back; waiting for a chunk to finish is not stopping."""
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    from scriptc import driver, interrupt
+
+    context = multiprocessing.get_context("fork")
+    with interrupt.deferred():
+        pool = ProcessPoolExecutor(max_workers=1, mp_context=context,
+                                   initializer=driver._worker_start)
+        future = pool.submit(time.sleep, 60)
+    wait_for(future.running)
+    workers = list(pool._processes)
+    start = time.monotonic()
+    driver._stop_workers(pool)
+    assert time.monotonic() - start < STOP_WITHIN_S
+    assert [pid for pid in workers if alive(pid)] == []

@@ -524,12 +524,14 @@ def _analyze_parallel(tasks: list[tuple[str, bytes, str, tuple]], jobs: int,
 
 def _worker_start() -> None:
     """The start of a worker process: Ctrl-C is the parent's to handle (a terminal sends it to
-    every process of the command; the parent stops the workers)."""
+    every process of the command; the parent stops the workers). The worker was forked with
+    Ctrl-C and SIGTERM held back (`interrupt.deferred`): SIGTERM, by which the parent stops
+    it, must reach it again."""
     import signal
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     if hasattr(signal, "pthread_sigmask"):
-        signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT, signal.SIGTERM})
 
 
 def _stop_workers(pool) -> None:
