@@ -361,6 +361,56 @@ def test_which_changes_count() -> None:
         "activities/.gitignore"]
 
 
+def test_watch_rounds_in_process(files: Path, monkeypatch) -> None:
+    """The loop of `--watch` over a stand-in for watchfiles (the real one is run above): the
+    first wake-up lints, an empty wake-up does not, a change does, Ctrl-C ends it with 130."""
+    import types
+
+    from scriptc.cli import watch as watch_module
+
+    seen = {}
+
+    def fake_watch(*targets, watch_filter, **options):
+        seen["targets"], seen["options"] = targets, options
+        yield set()  # the watcher is set up: the first round
+        yield set()  # a wake-up with nothing to report
+        assert watch_filter("modified", str(files / "broken.script"))
+        assert not watch_filter("modified", str(files / "notes.txt"))
+        (files / "new.script").write_text(CLEAN.replace("[clean]", "[new]"), encoding="utf-8")
+        yield {("added", str(files / "new.script"))}
+        raise KeyboardInterrupt
+
+    monkeypatch.setitem(sys.modules, "watchfiles", types.SimpleNamespace(watch=fake_watch))
+    monkeypatch.setattr(watch_module, "_is_terminal", lambda stream: True)
+    result = run("lint", ".", "--watch", "--format", "grouped")
+    assert result.exit_code == 130
+    assert seen["targets"] == (str(files),)
+    assert seen["options"]["yield_on_timeout"] and seen["options"]["raise_interrupt"]
+    rounds = result.stdout.split("\x1b[2J\x1b[H")  # the screen is cleared between rounds
+    assert len(rounds) == 2 and all("broken.script:" in r for r in rounds)
+    assert result.stderr.count("watching for changes (Ctrl-C stops)") == 2
+    assert result.stderr.count("checked 1 file: 1 error") == 1
+    assert result.stderr.count("checked 2 files") == 1
+    # Written to a file, no screen is cleared.
+    assert "\x1b[2J" not in run("lint", ".", "--watch", "-o", "report.txt").stdout
+
+
+def test_watch_without_a_watcher_says_so(files: Path, monkeypatch) -> None:
+    import types
+
+    def no_watcher(*targets, **options):
+        raise OSError(28, "inotify watch limit reached")
+        yield
+
+    monkeypatch.setitem(sys.modules, "watchfiles", types.SimpleNamespace(watch=no_watcher))
+    result = run("lint", ".", "--watch")
+    assert (result.exit_code, result.stderr) == (
+        2, "error: cannot watch the files: inotify watch limit reached\n")
+    monkeypatch.setitem(sys.modules, "watchfiles", None)  # not installed
+    result = run("lint", ".", "--watch")
+    assert result.exit_code == 2 and "pip install watchfiles" in result.stderr
+
+
 def test_watch_refuses_stdin(files: Path) -> None:
     result = run("lint", "-", "--watch")
     assert result.exit_code == 2 and "--watch cannot watch stdin" in result.stderr

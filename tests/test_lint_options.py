@@ -192,6 +192,12 @@ def test_output_file_never_replaces_a_script_being_linted(project: Path) -> None
     assert (project / "w.script").read_text() == WARNS
 
 
+def test_output_file_with_stdin(project: Path) -> None:
+    result = run("lint", "-", "-o", "w.script", "--format", "json", input=WARNS.encode())
+    assert result.exit_code == 0  # stdin is no file: w.script is only the output here
+    assert json.loads((project / "w.script").read_text()) == []
+
+
 def test_output_file_in_a_missing_folder_fails_before_linting(project: Path, monkeypatch) -> None:
     import scriptc.driver
 
@@ -311,6 +317,11 @@ def test_without_a_configuration_the_cache_is_here(tmp_path: Path, monkeypatch) 
     assert (tmp_path / ".scriptc_cache").is_dir() and not (tmp_path / "sub" / ".scriptc_cache").exists()
 
 
+def test_config_and_isolated_contradict_each_other(project: Path) -> None:
+    result = run("lint", ".", "--config", "scriptc.toml", "--isolated")
+    assert result.exit_code == 2 and "contradict" in result.stderr
+
+
 def test_config_option_puts_the_cache_beside_that_file(project: Path) -> None:
     write(project, {"other/strict.toml": "", "other/x.script": WARNS})
     run("lint", "other/x.script", "--config", "other/strict.toml")
@@ -348,6 +359,27 @@ def test_clean_from_a_subfolder_finds_the_root(project: Path) -> None:
     os.chdir(project / "c")
     result = run("clean")
     assert result.exit_code == 0 and not (project / ".scriptc_cache").exists()
+
+
+def test_clean_says_what_it_cannot_remove(project: Path, monkeypatch) -> None:
+    import shutil
+
+    run("lint", ".")
+
+    def refuse(path, *args, **kwargs):
+        raise PermissionError(13, "Permission denied", path)
+
+    monkeypatch.setattr(shutil, "rmtree", refuse)
+    result = run("clean")
+    assert (result.exit_code, result.stderr) == (
+        2, "error: cannot remove `.scriptc_cache`: Permission denied\n")
+
+
+def test_sizes_as_people_read_them() -> None:
+    from scriptc.cli.clean import human_size
+
+    assert [human_size(n) for n in (0, 1023, 1024, 62_669, 3 * 1024 ** 2, 1024 ** 3 * 3 // 2)] == [
+        "0 bytes", "1023 bytes", "1.0 KB", "61.2 KB", "3.0 MB", "1.5 GB"]
 
 
 def test_clean_never_removes_a_folder_scriptc_did_not_make(project: Path) -> None:

@@ -45,12 +45,15 @@ def _size(folder: str) -> tuple[int, int]:
     return files, size
 
 
-def _human(size: int) -> str:
-    for unit in ("bytes", "KB", "MB", "GB"):
-        if size < 1024 or unit == "GB":
-            return f"{size} {unit}" if unit == "bytes" else f"{size:.1f} {unit}"
+def human_size(size: int) -> str:
+    """`812 bytes`, `61.2 KB`, `3.0 MB`, `1.5 GB`: a size as people read it."""
+    if size < 1024:
+        return f"{size} bytes"
+    for unit in ("KB", "MB"):
         size /= 1024
-    return f"{size} bytes"  # pragma: no cover - the loop returns
+        if size < 1024:
+            return f"{size:.1f} {unit}"
+    return f"{size / 1024:.1f} GB"
 
 
 def caches_below(path: str) -> list[str]:
@@ -96,7 +99,7 @@ def command(ctx: click.Context, path: str, cache_dir: str | None) -> None:
             shutil.rmtree(folder)
         except OSError as exc:
             raise CliError(f"cannot remove `{shown}`: {exc.strerror or exc}") from None
-        write(f"removed `{shown}` ({files} files, {_human(size)})\n", err=True)
+        write(f"removed `{shown}` ({files} files, {human_size(size)})\n", err=True)
         removed += 1
     if not removed and not refused:
         write(f"nothing to remove: no cache at `{shown_path(os.path.abspath(main))}`\n",
