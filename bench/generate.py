@@ -55,7 +55,10 @@ _CONDITIONS = (
 def varied_script(blocks: int, seed: int) -> str:
     """A valid script of about `blocks` blocks in many shapes, as people write them: 0-3 moves,
     0-3 LED commands and 0-2 tracks per instruction block, jumps on six kinds of condition,
-    comments now and then, labels on some blocks only (deterministic for a seed)."""
+    comments now and then, labels on some blocks only (deterministic for a seed). Each move
+    waits half a second or more, lasts as long, and the move track ends with 300 ms still:
+    room for the governor's ramps around each change (K003, docs/robot.md), so the script has
+    no diagnostic."""
     import random
 
     rng = random.Random(seed)
@@ -82,8 +85,9 @@ def varied_script(blocks: int, seed: int) -> str:
                 target = ""  # an unconditional jump ahead would leave blocks unreachable
             out.append(f"    [b#{label}#blk_jump: CND({condition}) TRJMP({target}) FLSJMP()]\n")
             continue
-        moves = ", ".join(f'"{number(0.4)}, {number(0.2)}, {number(1)}, 0, {rng.randint(1, 20) * 100}"'
-                          for _ in range(rng.randint(0, 3)))
+        moves = [f'"{number(0.4)}, {number(0.2)}, {number(1)}, {rng.randint(5, 8) * 100}, '
+                 f'{rng.randint(5, 20) * 100}"' for _ in range(rng.randint(0, 3))]
+        moves = ", ".join(moves + ['"0, 0, 0, 0, 300"'] if moves else [])
         leds = ", ".join(f'"{number(1)}, {number(1)}, {number(1)}, 1, {rng.randint(0, 3) * 100}, '
                          f'{rng.randint(4, 10) * 100}"' for _ in range(rng.randint(0, 3)))
         audio = ", ".join(f'"songs/track{rng.randint(0, 99)}.wav, 0, {rng.randint(1, 10) * 500}"'

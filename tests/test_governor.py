@@ -414,3 +414,75 @@ def test_the_speaker_plays_at_the_profiles_volume() -> None:
     assert session.robot.volume == 0.4
     robot = make_robot("mujoco")
     assert robot.volume == 1.0  # without a governor: full volume
+
+
+# ---------------------------------------------------------------------------------------------
+# Ramps centred on the changes a block knows ahead (docs/robot.md, "Acceleration")
+
+
+def test_a_block_with_room_is_ramped_around_its_changes_and_ends_where_the_script_does() -> None:
+    """A turn left and back that waits 200 ms and leaves 200 ms after it: the ramps start half
+    a ramp before each change, nothing is logged, and the robot faces where it started."""
+    text = moves("0, 0, 0.8, 200, 1000", "0, 0, -0.8, 0, 1000", leds='"0, 0, 1, 1, 0, 2400"')
+    for robot in ("kinematic", "mujoco"):
+        result, trace, session = run(text, robot)
+        assert result.pose.theta == pytest.approx(0.0, abs=1e-9)
+        assert not trace.of_kind("governor") and session.governor.clamps == 0
+        assert trace.of_kind("session_end")[0]["at_rest_ms"] == 2400
+    gov, _ = governed()
+    from scriptc.runtime.values import Move
+
+    gov.plan_block(0, [Move(0, 0, 0.8, 200, 1000), Move(0, 0, -0.8, 0, 1000)], 2400)
+    gov.advance(400)
+    # 0.8 rad/s at 3 rad/s²: 267 ms from 67 to 334, half-way at the change (200)
+    assert gov.velocity_at(67)[2] == 0.0 and gov.velocity_at(68)[2] == pytest.approx(0.8 / 267)
+    assert gov.velocity_at(200)[2] == pytest.approx(0.8 * 133 / 267)
+    assert gov.velocity_at(334)[2] == 0.8
+
+
+def test_a_hold_before_a_planned_ramp_keeps_the_robot_still() -> None:
+    """The operator freezes the block during the wait before a move, after its centred ramp has
+    begun: the plan is dropped, the robot ramps back at once, and the move, when the block
+    resumes, is ramped late (and logged)."""
+    from scriptc.runtime.scenario import scenario_from_data
+
+    text = moves("0.25, 0, 0, 1000, 1000", leds='"0, 0, 1, 1, 0, 3000"')
+    scenario = scenario_from_data({"operator": [
+        {"at": 0, "command": "safety_lock", "held": True},
+        {"at": 900, "command": "interrupt", "on": True},
+        {"at": 3000, "command": "interrupt", "on": False}]})
+    analysis = analysis_of(text)
+    trace = Trace()
+    session = Session([IRProgram(analysis.script, "t.script")], scenario=scenario, trace=trace,
+                      profile=DEFAULT_PROFILE)
+    result = session.run()
+    back, start, stop = trace.of_kind("governor")
+    # the centred ramp (251 ms) began at 875: 25 ms later it is at 0.025 m/s, and comes back
+    assert back["t"] == 900 and back["applied"]["v_x"] == pytest.approx(0.25 * 25 / 251)
+    assert back["target"] == STILL and back["ramp_ms"] == 25
+    assert (start["t"], stop["t"]) == (3100, 4100) and start["ramp_ms"] == 250
+    assert result.time_ms == 5100  # the block's clock stopped for 2.1 s
+    # 0.25 m from rest to rest, and the 50 ms it moved before the freeze: 0.6 mm
+    assert 0.2505 < result.pose.x < 0.2507
+
+
+def test_a_child_in_the_way_of_a_planned_ramp_holds_it() -> None:
+    gov, trace = governed()
+    from scriptc.runtime.values import Move
+
+    gov.nearest = lambda t, pose: (0.3, 0.0)  # a child 30 cm straight ahead
+    gov.plan_block(0, [Move(0.25, 0, 0, 1000, 1000)], 3000)
+    gov.advance(950)  # the centred ramp would have started at 875
+    assert gov.velocity_at(950) == (0.0, 0.0, 0.0) and gov.pose().x == 0.0
+    gov.set_velocity(1000, 0.25, 0, 0)
+    gov.flush()
+    assert gov.target == (0.0, 0.0, 0.0)
+    assert trace.of_kind("governor")[-1]["reasons"] == ["human-distance"]
+
+
+def test_a_run_cut_while_a_centred_ramp_anticipates_its_change_brakes() -> None:
+    text = moves("0.25, 0, 0, 1000, 1000", leds='"0, 0, 1, 1, 0, 3000"')
+    result, trace, _ = run(text, until=950)  # the ramp began at 875 toward 0.25 m/s
+    (stop,) = trace.of_kind("governor")
+    assert stop["t"] == 950 and stop["commanded"] == STILL and stop["ramp_ms"] == 75
+    assert trace.of_kind("session_end")[0]["at_rest_ms"] == 1025

@@ -11,8 +11,9 @@ Under tests/cases/runtime/:
   override or a `script_vect` update may name; repeatable), `--stay-idle` (do not end when the
   queue is empty: run `idle_activity`), `--unchecked` (run although the checker reports
   errors: for the cases of run-time misuse), `--max-loops N` (loops at one instant before the
-  session gives up; keeps the trace of a no-progress case short). FILE is relative to the
-  case's folder.
+  session gives up; keeps the trace of a no-progress case short), `--governed` (with the safety
+  governor and the default robot profile, as `scriptc run` runs: its `governor` events and
+  where the robot comes to rest are in the trace). FILE is relative to the case's folder.
 - Helper scripts live in `lib/`.
 
 Every trace is also validated against `schemas/trace.schema.json`, and each case runs twice:
@@ -33,6 +34,7 @@ import pytest
 
 from harness import CASES, expect
 from scriptc.driver import analyze_file
+from scriptc.profile import DEFAULT_PROFILE
 from scriptc.runtime.interp import IRProgram
 from scriptc.runtime.scenario import load_scenario
 from scriptc.runtime.session import LoadError, Session
@@ -81,7 +83,7 @@ def _options(path: Path) -> dict:
     m = re.search(r"^\s*run:(.*)$", text, re.MULTILINE) if path.suffix == ".script" else None
     args = shlex.split(m.group(1).rstrip().rstrip("%")) if m else []
     options = {"until": None, "also": [], "catalogue": [], "stay_idle": False, "unchecked": False,
-               "max_loops": 10_000}
+               "max_loops": 10_000, "governed": False}
     it = iter(args)
     for arg in it:
         if arg == "--until":
@@ -94,6 +96,8 @@ def _options(path: Path) -> dict:
             options["stay_idle"] = True
         elif arg == "--unchecked":
             options["unchecked"] = True
+        elif arg == "--governed":
+            options["governed"] = True
         else:
             raise AssertionError(f"{path.name}: unknown run option {arg}")
     return options
@@ -121,7 +125,8 @@ def run_case(path: Path, world: Path | None) -> Trace:
     trace = Trace()
     Session(programs, scenario=scenario, trace=trace, catalogue=catalogue,
             stop_when_done=not options["stay_idle"], loader=_loader(folder),
-            max_loops_per_instant=options["max_loops"]).run(options["until"])
+            max_loops_per_instant=options["max_loops"],
+            profile=DEFAULT_PROFILE if options["governed"] else None).run(options["until"])
     return trace
 
 

@@ -36,7 +36,7 @@ from scriptc.profile import Profile
 
 Velocity = tuple[float, float, float]
 ZERO: Velocity = (0.0, 0.0, 0.0)
-GROUPS = ((0, 1), (2,))  # axes that ramp together: the plane, the turn
+GROUPS = ((0, 1), (2,))  # axes that ramp together: the plane, the turn (each a slice)
 GROUP_NAMES = ("plane", "turn")
 
 
@@ -78,15 +78,16 @@ def limit_ms(start: Iterable[float], target: Iterable[float],
     its axes (0: no change; 1 on an axis without a limit)."""
     n = 0
     for v0, v1, rate in zip(start, target, rates):
-        d = abs(v1 - v0)
-        if d == 0.0:
+        if v0 == v1:
             continue
         if not 0.0 < rate < math.inf:
             need = 1  # no limit on this axis: the change takes one millisecond
         else:
             # 1e-9: a change of exactly k ms at the rate is k steps, not k + 1
-            need = max(1, math.ceil(d / (rate / 1000.0) - 1e-9))
-        n = max(n, need)
+            need = math.ceil(abs(v1 - v0) * 1000.0 / rate - 1e-9)
+            need = need if need > 1 else 1
+        if need > n:
+            n = need
     return n
 
 
@@ -107,7 +108,7 @@ class Ramp:
     `target[i]` from `t0s[i] + steps[i]` on. `end` is the millisecond every axis is on its
     target; `t0` the earliest start."""
 
-    __slots__ = ("t0s", "start", "target", "step", "steps", "t0", "end")
+    __slots__ = ("t0s", "start", "target", "step", "steps", "ends", "t0", "end")
 
     def __init__(self, t0: int, start: Velocity, target: Velocity,
                  rates: tuple[float, float, float]) -> None:
@@ -127,15 +128,18 @@ class Ramp:
         return ramp
 
     def _fill(self, t0s, start, target, steps) -> None:
-        self.t0s = tuple(t0s)
-        self.start = tuple(start)
-        self.target = tuple(target)
-        self.steps = tuple(steps)
-        self.step = tuple((v1 - v0) / n if n else 0.0
-                          for v0, v1, n in zip(self.start, self.target, self.steps))
-        ramping = [i for i in range(3) if self.steps[i]]
-        self.t0 = min((self.t0s[i] for i in ramping), default=self.t0s[0])
-        self.end = max((self.t0s[i] + self.steps[i] for i in ramping), default=self.t0)
+        self.t0s = t0s = tuple(t0s)
+        self.start = start = tuple(start)
+        self.target = target = tuple(target)
+        self.steps = steps = tuple(steps)
+        self.step = ((target[0] - start[0]) / steps[0] if steps[0] else 0.0,
+                     (target[1] - start[1]) / steps[1] if steps[1] else 0.0,
+                     (target[2] - start[2]) / steps[2] if steps[2] else 0.0)
+        # each axis is on its target from `ends` on
+        self.ends = ends = (t0s[0] + steps[0], t0s[1] + steps[1], t0s[2] + steps[2])
+        ramping = [i for i in (0, 1, 2) if steps[i]]
+        self.t0 = min([t0s[i] for i in ramping]) if ramping else t0s[0]
+        self.end = max([ends[i] for i in ramping]) if ramping else self.t0
 
     @classmethod
     def between(cls, t0: int, start: Velocity, target: Velocity,
@@ -161,18 +165,18 @@ class Ramp:
 
     def ramping(self, i: int, a: int, b: int) -> bool:
         """Whether axis i changes during some millisecond of (a, b]."""
-        n = self.steps[i]
-        return bool(n) and a < self.t0s[i] + n and b > self.t0s[i]
+        return bool(self.steps[i]) and a < self.ends[i] and b > self.t0s[i]
 
     def breaks(self, a: int, b: int) -> list[int]:
         """The milliseconds in (a, b) where some axis starts or ends its ramp, then b: within
         each interval between them every axis is constant or linear."""
         out = {b}
-        for t0, n in zip(self.t0s, self.steps):
+        for t0, t1, n in zip(self.t0s, self.ends, self.steps):
             if n:
-                for t in (t0, t0 + n):
-                    if a < t < b:
-                        out.add(t)
+                if a < t0 < b:
+                    out.add(t0)
+                if a < t1 < b:
+                    out.add(t1)
         return sorted(out)
 
     def sums(self, a: int, b: int) -> Velocity:
@@ -275,17 +279,17 @@ def _at_rest(values) -> bool:
     return not any(values)
 
 
-def _why_late(t0: int, length: int, motion, state: _GroupState, rates) -> str | None:
+def _why_late(t0: int, length: int, motion, spans: list[int],
+              state: _GroupState) -> str | None:
     """Why the governor cannot centre a motion of a block issued at `t0` that lasts `length`
-    ms, with the group in `state` before it (None: it can): "entered", the block starts
-    while the group moves; "start", its first ramp would start before the block or while the
-    group still moves; "overlap", two of its ramps would overlap; "end", its last ramp would
-    end after the block."""
+    ms, whose centred ramps last `spans`, with the group in `state` before it (None: it can):
+    "entered", the block starts while the group moves; "start", its first ramp would start
+    before the block or while the group still moves; "overlap", two of its ramps would
+    overlap; "end", its last ramp would end after the block."""
     if not _at_rest(motion[0][1]):
         return "entered"
     end = None
-    for t, v0, v1 in motion:
-        m = centred_ms(limit_ms(v0, v1, rates))
+    for (t, _, _), m in zip(motion, spans):
         at = t0 + t - (m - 1) // 2
         if end is None:
             if at < t0 or at < state.t0 + state.n or not _at_rest(state.v1):
@@ -340,17 +344,22 @@ class Shaper:
         """A command from `t`: each group not heading for a planned change, whose target
         differs, ramps there at the limit from the velocity it has. Returns the ms of each
         group that ramps (1: at once)."""
+        if target == self.target and self.anticipating == [None, None]:
+            return {}  # nothing changes
         changed: dict[int, tuple[tuple[float, ...], int]] = {}
-        now = self.velocity(t)
+        now = None
         for g, axes in enumerate(GROUPS):
             due = self.anticipating[g]
             if due is not None:
                 if t < due:
                     continue  # a centred ramp heads for the planned change
                 self.anticipating[g] = None
-            values = tuple(target[i] for i in axes)
-            if values != tuple(self.target[i] for i in axes):
-                n = limit_ms([now[i] for i in axes], values, [self.rates[i] for i in axes])
+            values = target[axes[0]:axes[-1] + 1]
+            if values != self.target[axes[0]:axes[-1] + 1]:
+                if now is None:
+                    now = self.velocity(t)
+                n = limit_ms(now[axes[0]:axes[-1] + 1], values,
+                             self.rates[axes[0]:axes[-1] + 1])
                 changed[g] = (values, n)
         if changed:
             self._set(t, changed)
@@ -377,18 +386,19 @@ class Shaper:
 
     def _plan_group(self, t0: int, length: int, g: int, axes: tuple[int, ...],
                     steps: list[tuple[int, Velocity]], before: Velocity) -> list[Motion]:
-        rates = [self.rates[i] for i in axes]
+        lo, hi = axes[0], axes[-1] + 1
+        rates = self.rates[lo:hi]
         changes = []
-        value = tuple(before[i] for i in axes)
+        value = before[lo:hi]
         for t, v in steps:
-            new = tuple(v[i] for i in axes)
+            new = v[lo:hi]
             if new != value:
                 changes.append((t, value, new))
                 value = new
+        if not changes:
+            return []
         # The group as the robot has it at the issue: where it goes, and when it gets there.
-        now = self.velocity(t0)
-        state = _GroupState(t0, tuple(now[i] for i in axes),
-                            tuple(self.target[i] for i in axes), 0)
+        state = _GroupState(t0, self.velocity(t0)[lo:hi], self.target[lo:hi], 0)
         ramp = self.ramp
         if ramp is not None:
             ends = [ramp.t0s[i] + ramp.steps[i] for i in axes if ramp.steps[i]]
@@ -402,10 +412,10 @@ class Shaper:
                 k += 1  # on to the change that brings the group to rest
             motion = tuple(changes[first:k + 1])
             k += 1
-            why = _why_late(t0, length, motion, state, rates)
-            for t, v0, v1 in motion:
+            spans = [centred_ms(limit_ms(v0, v1, rates)) for _, v0, v1 in motion]
+            why = _why_late(t0, length, motion, spans, state)
+            for (t, v0, v1), m in zip(motion, spans):
                 if why is None:
-                    m = centred_ms(limit_ms(v0, v1, rates))
                     at = t0 + t - (m - 1) // 2
                     self.planned.append(Planned(at, g, v1, m, t0 + t))
                     state.v0, state.v1, state.t0, state.n = v0, v1, at, m
@@ -440,6 +450,12 @@ class Shaper:
 
 # -- kinematics ---------------------------------------------------------------------------------
 
+# Gauss-Legendre nodes and weights on [0, 1] (from [-1, 1]), 4 points: exact for polynomials of
+# degree 7, within a micrometre for a heading that turns at most a radian along the stretch.
+_GAUSS = tuple(((x + 1) / 2, w / 2) for x, w in (
+    (-0.8611363115940526, 0.3478548451374536), (-0.3399810435848563, 0.6521451548625464),
+    (0.3399810435848563, 0.6521451548625464), (0.8611363115940526, 0.3478548451374536)))
+
 
 class Kinematics:
     """An ideal holonomic base (docs/runtime.md, "Robots"): between two velocity changes the
@@ -458,14 +474,14 @@ class Kinematics:
     without translation) and over each stretch where no axis changes."""
 
     def __init__(self, x: float = 0.0, y: float = 0.0, theta: float = 0.0,
-                 arcs: int | None = None) -> None:
+                 exact: bool = True) -> None:
         self._x, self._y, self._theta = x, y, theta
         self._t = 0
         self._v: Velocity = ZERO
         self._ramp: Ramp | None = None
-        # At most this many arcs per stretch of a ramp that turns while it moves (None: one
-        # per millisecond, exact): a static prediction under a tiny acceleration limit.
-        self._arcs = arcs
+        # Not exact: a stretch of a ramp that turns while it moves by quadrature, within a
+        # micrometre, instead of an arc per millisecond (the static prediction, K003).
+        self._exact = exact
 
     def start(self, velocity: Velocity, ramp: Ramp | None = None) -> None:
         """The velocity it has at its start (following `ramp`, whose target it is)."""
@@ -486,25 +502,35 @@ class Kinematics:
         if ramp is not None:
             stop = min(t_ms, ramp.end)
             a = self._t
+            t0s, ends, steps = ramp.t0s, ramp.ends, ramp.steps
             for b in ramp.breaks(a, stop) if stop > a else ():
-                turning = ramp.ramping(2, a, b) or ramp.velocity(b)[2] != 0.0
-                moving = any(ramp.ramping(i, a, b) or ramp.velocity(b)[i] != 0.0
-                             for i in (0, 1))
-                if not any(ramp.ramping(i, a, b) for i in range(3)):
-                    self._arc((b - a) / 1000.0, *ramp.velocity(b))
-                elif not (turning and moving):
+                # which axes change within (a, b] (`Ramp.ramping`)
+                rx = steps[0] and a < ends[0] and b > t0s[0]
+                ry = steps[1] and a < ends[1] and b > t0s[1]
+                rw = steps[2] and a < ends[2] and b > t0s[2]
+                end = ramp.velocity(b)
+                if not (rx or ry or rw):
+                    self._arc((b - a) / 1000.0, *end)
+                elif not ((rw or end[2]) and (rx or ry or end[0] or end[1])):
                     sx, sy, sw = ramp.sums(a, b)
                     self._arc(0.001, sx, sy, sw)  # the heading is constant: one closed form
-                elif self._arcs is None or b - a <= self._arcs:
-                    for t in range(a + 1, b + 1):
-                        self._arc(0.001, *ramp.velocity(t))
-                else:  # a few arcs, each at the mean velocity of its milliseconds
-                    chunk = -(-(b - a) // self._arcs)
-                    for c in range(a, b, chunk):
-                        d = min(b, c + chunk)
-                        sx, sy, sw = ramp.sums(c, d)
-                        k = d - c
-                        self._arc(k / 1000.0, sx / k, sy / k, sw / k)
+                else:
+                    # Every axis is constant or linear here: in the millisecond ending at t a
+                    # ramping axis has start + (t - t0) * step (`Ramp.velocity`).
+                    (x0, y0, w0), (tx, ty, tw), (sx, sy, sw) = ramp.start, t0s, ramp.step
+                    if not rx:
+                        x0, tx, sx = end[0], 0, 0.0
+                    if not ry:
+                        y0, ty, sy = end[1], 0, 0.0
+                    if not rw:
+                        w0, tw, sw = end[2], 0, 0.0
+                    if self._exact or b - a <= 8:
+                        for t in range(a + 1, b + 1):
+                            self._arc(0.001, x0 + (t - tx) * sx, y0 + (t - ty) * sy,
+                                      w0 + (t - tw) * sw)
+                    else:
+                        self._quadrature(a, b, (x0 - tx * sx, y0 - ty * sy, w0 - tw * sw),
+                                         (sx, sy, sw))
                 a = b
             self._t = max(self._t, stop)
             if self._t >= ramp.end:
@@ -512,6 +538,33 @@ class Kinematics:
         if t_ms > self._t:
             self._arc((t_ms - self._t) / 1000.0, *self._v)
             self._t = t_ms
+
+    def _quadrature(self, a: int, b: int, base: Velocity, slope: Velocity) -> None:
+        """The milliseconds (a, b] of velocities `base + t * slope` (t the millisecond's end),
+        as the integral of the body velocity along the heading, by Gauss-Legendre quadrature on
+        the continuous velocity through the milliseconds' middles, in stretches of at most
+        one radian of heading (the heading itself exactly, as the sum of the milliseconds)."""
+        (bx, by, bw), (sx, sy, sw) = base, slope
+        theta = self._theta
+        most = max(abs(bw + (a + 1) * sw), abs(bw + b * sw))  # the fastest turn, rad/s
+        pieces = max(1, math.ceil(most * (b - a) / 1000.0))
+        length = (b - a) / pieces
+        x = y = 0.0
+        half = a + 0.5
+        for p in range(pieces):
+            lo = p * length
+            for node, weight in _GAUSS:
+                u = lo + node * length  # ms from a, continuous
+                # velocity of the ms containing u; heading: the turn's velocity integrated
+                t = half + u
+                vx, vy = bx + t * sx, by + t * sy
+                heading = theta + (bw * u + sw * (u * u / 2 + half * u)) / 1000.0
+                c, s = math.cos(heading), math.sin(heading)
+                x += weight * (vx * c - vy * s)
+                y += weight * (vx * s + vy * c)
+        self._x += x * length / 1000.0
+        self._y += y * length / 1000.0
+        self._theta += (b - a) * (bw + sw * (a + 1 + b) / 2) / 1000.0
 
     def _arc(self, T: float, vx: float, vy: float, w: float) -> None:
         """T seconds at the constant body velocity (vx, vy, w), in closed form."""
@@ -572,17 +625,19 @@ def _shifted(ramp: Ramp | None, by: int) -> Ramp | None:
 
 
 def run_block(entry: Entry, steps: list[tuple[int, Velocity]], length: int,
-              rates: tuple[float, float, float], arcs: int | None = None) -> BlockRun:
+              rates: tuple[float, float, float], exact: bool = True,
+              ideal: Pose | None = None) -> BlockRun:
     """The block's run as the governor makes it, from `entry`: `steps` (`track_steps`,
     within the speed limits) from the block's start, `length` ms. The governed robot (the
     same `Shaper` as at run time, `Kinematics` for the pose) stops at the block's end and
     comes to rest; the script's pose is the previous motion coming to rest as the governor
-    brakes it (`entry` with a zero command) followed by the block's steps at once. `arcs`
-    bounds the arcs per stretch of a ramp that turns while it moves (`Kinematics`)."""
+    brakes it (`entry` with a zero command) followed by the block's steps at once (`ideal`,
+    that pose from the origin, when the caller has it). Not `exact`: the stretches of ramps
+    that turn while they move by quadrature (`Kinematics`)."""
     shaper = Shaper(rates)
     shaper.ramp, shaper.target = entry.ramp, entry.target
     motions = shaper.plan(0, length, steps, entry.command)
-    robot = Kinematics(arcs=arcs)
+    robot = Kinematics(exact=exact)
     robot.start(entry.target, entry.ramp)
 
     def play(t: int) -> None:
@@ -612,23 +667,75 @@ def run_block(entry: Entry, steps: list[tuple[int, Velocity]], length: int,
     robot.advance(max(length, shaper.ramp.end if shaper.ramp is not None else length))
     governed = robot.pose()
 
-    braking = Shaper(rates)
-    braking.ramp, braking.target = entry.ramp, entry.target
-    script = Kinematics(arcs=arcs)
-    script.start(entry.target, entry.ramp)
-    if braking.late(0, ZERO):
-        script.set_velocity(0, *braking.target, ramp=braking.ramp)
-    script.advance(braking.ramp.end if braking.ramp is not None else 0)
-    x, y, theta = script.pose()
-    ideal = Kinematics(x, y, theta)
+    x, y, theta = 0.0, 0.0, 0.0
+    if entry.ramp is not None or any(entry.target):
+        braking = Shaper(rates)
+        braking.ramp, braking.target = entry.ramp, entry.target
+        script = Kinematics(exact=exact)
+        script.start(entry.target, entry.ramp)
+        if braking.late(0, ZERO):
+            script.set_velocity(0, *braking.target, ramp=braking.ramp)
+        script.advance(braking.ramp.end if braking.ramp is not None else 0)
+        x, y, theta = script.pose()
+    ix, iy, itheta = ideal if ideal is not None else ideal_pose(steps, length)
+    c, s = math.cos(theta), math.sin(theta)
+    wanted = (x + c * ix - s * iy, y + s * ix + c * iy, theta + itheta)
+    return BlockRun(motions, exit, (governed.x - wanted[0], governed.y - wanted[1],
+                                    governed.theta - wanted[2]))
+
+
+def centred_bound(steps: list[tuple[int, Velocity]], length: int,
+                  rates: tuple[float, float, float]) -> tuple[list[Motion], float] | None:
+    """For a block entered at rest whose motions the governor all centres (None otherwise): its
+    motions, and a bound of how far from the script's position the robot ends (its heading
+    is the script's, exactly, and it is at rest by the block's end). Centred ramps keep each
+    axis's distance; the position differs only where the plane and the turn ramp together:
+    over a ramp of T s, by at most |Δu| T² / 24 times the fastest turn around it for a change
+    of the planar velocity u, and |Δω| T² / 24 times the fastest planar speed around it for a
+    change of the turn ω (the integrals of the ramp's difference from the step against the
+    heading's drift, or of the heading's difference against the speed). `run_block` gives the
+    exact figure; this is the cheap check that there is nothing to report."""
+    shaper = Shaper(rates)
+    motions = shaper.plan(0, length, steps, ZERO)
+    if not all(m.centred for m in motions):
+        return None
+    times, values = shaper.expected_times, shaper.expected
+    longest = max((p.steps for p in shaper.planned), default=0)
+
+    def fastest(lo: int, hi: int, group: int) -> float:
+        """The fastest ideal speed of a group over [lo, hi] (planar or turning)."""
+        best = 0.0
+        for i, t in enumerate(times):
+            if t > hi:
+                break
+            nxt = times[i + 1] if i + 1 < len(times) else math.inf
+            if nxt >= lo:
+                v = values[i]
+                best = max(best, math.hypot(v[0], v[1]) if group == 0 else abs(v[2]))
+        return best
+
+    bound = 0.0
+    before = [(0.0, 0.0), (0.0,)]
+    for p in shaper.planned:  # in order of `at`; per group, in order of their changes
+        old, before[p.group] = before[p.group], p.values
+        change = math.hypot(*(b - a for a, b in zip(old, p.values)))
+        spread = (p.steps / 1000.0) ** 2 / 24.0
+        if p.group == 0:
+            bound += change * spread * fastest(p.at, p.at + p.steps, 1)
+        else:
+            bound += change * spread * fastest(p.at - longest, p.at + p.steps + longest, 0)
+    return motions, bound
+
+
+def ideal_pose(steps: list[tuple[int, Velocity]], length: int) -> Pose:
+    """Where the block's steps at once take the robot from the origin, facing +x."""
+    ideal = Kinematics()
     for t, v in track_steps_from_zero(steps):
         if t >= length:
             break
         ideal.set_velocity(t, *v)
     ideal.advance(length)
-    wanted = ideal.pose()
-    return BlockRun(motions, exit, (governed.x - wanted.x, governed.y - wanted.y,
-                                    governed.theta - wanted.theta))
+    return ideal.pose()
 
 
 def track_steps_from_zero(steps: list[tuple[int, Velocity]]) -> list[tuple[int, Velocity]]:

@@ -1,6 +1,6 @@
 """The robot profile: the limits the activities must respect, with safe defaults
-(docs/robot.md). The static safety pass (`check/safety.py`, K codes) and the run-time governor
-(`runtime/governor.py`) read it.
+(docs/robot.md). The static safety pass (`check/safety.py`, K codes), the run-time governor
+(`runtime/governor.py`) and what both predict of the robot's ramps (`motion.py`) read it.
 
 The defaults are conservative for a robot among small children: a walking child moves at about
 1 m/s, Teo/Oimi's base drove at a few tenths of a metre per second in the thesis's sessions.

@@ -16,10 +16,11 @@ produced before sorting:
 4. `values.check_values`         V003-V007  numbers in commands, messages and conditions
 5. `conditions.check_conditions` R001-R009  the rule grammar against classes and functions
 6. `audio.check_audio`           A001-A003  audio track paths
-7. `safety.check_safety`         K001-K002  speeds and flashing LEDs against the robot profile
+7. `safety.check_safety`         K001-K003  speeds, flashing LEDs and the governor's ramps
+                                            (`ramps.py`) against the robot profile
 
-Importing this package loads only the standard library, `scriptc.ir`/`scriptc.diagnostics`
-and `scriptc.profile` (difflib is imported when a suggestion is needed).
+Importing this package loads only the standard library, `scriptc.ir`/`scriptc.diagnostics`,
+`scriptc.profile` and `scriptc.motion` (difflib is imported when a suggestion is needed).
 """
 
 from __future__ import annotations

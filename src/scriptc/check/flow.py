@@ -54,6 +54,30 @@ def successors(ctx: Context) -> tuple[list[tuple[int, ...]], bool]:
     return succ, resolved
 
 
+def next_timed(blocks, succ: list[tuple[int, ...]], timed, starts: tuple[int, ...],
+               limit: int) -> list[tuple[int, int]]:
+    """The blocks that take time (`timed[i]`) control reaches from `starts` through blocks
+    that take none (jumps, sensor blocks, empty instruction blocks: all in the same
+    millisecond), each with the last jump passed (-1: none), depth first in the order of the
+    successors; at most `limit` blocks are visited (a cycle of blocks that take no time, F002,
+    just ends the search)."""
+    found: list[tuple[int, int]] = []
+    seen: set[int] = set()
+    todo = [(w, -1) for w in reversed(starts)]
+    while todo and len(seen) < limit:
+        v, via = todo.pop()
+        if v in seen:
+            continue
+        seen.add(v)
+        if timed[v]:
+            found.append((v, via))
+            continue
+        if isinstance(blocks[v], JumpBlock):
+            via = v
+        todo.extend((w, via) for w in reversed(succ[v]) if w not in seen)
+    return found
+
+
 def check_flow(ctx: Context) -> list[Diagnostic]:
     out: list[Diagnostic] = []
     blocks = ctx.blocks

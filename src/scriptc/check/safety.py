@@ -26,6 +26,9 @@ to one second and `_REACH` blocks, memoised per entry block, under a budget of w
 the size of the script. A cycle of blocks that take no time stops the search (F002 reports
 it).
 
+- K003 (`check/ramps.py`): moves the governor's acceleration ramps would leave away from where
+  the script puts the robot.
+
 The profile is `ctx.profile`: the configuration's `[robot]` over the defaults when the driver
 passes one, else `scriptc.profile.DEFAULT_PROFILE`.
 """
@@ -37,7 +40,8 @@ import math
 from dataclasses import dataclass
 
 from scriptc.check.context import Context
-from scriptc.check.flow import successors
+from scriptc.check.flow import next_timed, successors
+from scriptc.check.ramps import check_ramps, number, whole_ms
 from scriptc.diagnostics.model import Diagnostic, Label, diagnostic
 from scriptc.gcpause import gc_paused
 from scriptc.ir.nodes import InstructionBlock, JumpBlock, LedCommand, Number, block_path
@@ -53,19 +57,6 @@ _REACH = 512
 _REACH_SPENT = 16
 _WORK_BASE = 50_000
 _WORK_PER_BLOCK = 8
-
-
-def _num(number: Number) -> float | None:
-    try:
-        v = float(number.text)
-    except ValueError:
-        return None
-    return v if math.isfinite(v) else None
-
-
-def _ms(number: Number) -> int | None:
-    v = _num(number)
-    return int(v) if v is not None and v >= 0 and v == int(v) else None
 
 
 def _fmt(v: float) -> str:
@@ -85,11 +76,12 @@ def check_safety(ctx: Context) -> list[Diagnostic]:
     if lights:
         with gc_paused():  # many small acyclic objects (scriptc/gcpause.py)
             _Timeline(ctx, profile).check(out)
+    check_ramps(ctx, profile, out)
     return out
 
 
 def _speed(mv, profile: Profile, out: list[Diagnostic]) -> None:
-    v_x, v_y, w = _num(mv.v_x), _num(mv.v_y), _num(mv.v_theta)
+    v_x, v_y, w = number(mv.v_x), number(mv.v_y), number(mv.v_theta)
     if v_x is None or v_y is None or w is None:
         return  # reported by V002/V003
     speed = math.hypot(v_x, v_y)
@@ -144,14 +136,14 @@ def _track(block: InstructionBlock) -> _Track | None:
     t = 0
     lit = False  # the LEDs are off when a block starts and between commands
     for led in block.leds:
-        wait, length = _ms(led.wait_t), _ms(led.duration)
+        wait, length = whole_ms(led.wait_t), whole_ms(led.duration)
         if wait is None or length is None:
             return _Track(duration, [], [], False)  # V006
         t += wait
         if wait > 0:
             lit = False
         on = led.turnas.text.strip() == "1" and length > 0 and any(
-            (_num(c) or 0) > 0 for c in (led.r, led.g, led.b))
+            (number(c) or 0) > 0 for c in (led.r, led.g, led.b))
         if on and not lit:
             times.append(t)
             leds.append(led)
@@ -193,6 +185,7 @@ class _Timeline:
         self.blocks = ctx.blocks
         self._succ: tuple[list[tuple[int, ...]], bool] | None = None
         self.tracks = [_track(b) if isinstance(b, InstructionBlock) else None for b in self.blocks]
+        self.timed = [track is not None for track in self.tracks]
         self.limit = profile.max_led_flash_rate
         self._exits: dict[int, list[tuple[int, int]]] = {}
         self._targets: dict[int, list[tuple[int, int, bool]]] = {}
@@ -220,21 +213,7 @@ class _Timeline:
     def _search(self, starts: tuple[int, ...]) -> list[tuple[int, int]]:
         """The blocks that take time reached from `starts` through blocks that take none,
         each with the last jump passed (-1: none)."""
-        found: list[tuple[int, int]] = []
-        seen: set[int] = set()
-        todo = [(w, -1) for w in reversed(starts)]
-        while todo and len(seen) < _EXIT_SEARCH:
-            v, via = todo.pop()
-            if v in seen:
-                continue
-            seen.add(v)
-            if self.tracks[v] is not None:
-                found.append((v, via))
-                continue
-            if isinstance(self.blocks[v], JumpBlock):
-                via = v
-            todo.extend((w, via) for w in reversed(self.succ[v]) if w not in seen)
-        return found
+        return next_timed(self.blocks, self.succ, self.timed, starts, _EXIT_SEARCH)
 
     def exits(self, i: int) -> list[tuple[int, int]]:
         """Where control may go when block `i` ends: (next block that takes time, via)."""

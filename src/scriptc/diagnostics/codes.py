@@ -112,6 +112,7 @@ _CODES = (
     # K: safety against the robot profile (check/safety.py, docs/robot.md)
     Code("K001", "speed-beyond-profile", W, "a move faster than the robot profile allows (the governor slows it down)"),
     Code("K002", "led-flashing", E, "LEDs flashing faster than the profile allows (3 Hz: a seizure risk, WCAG 2.3.1)"),
+    Code("K003", "ramps-change-pose", W, "moves whose acceleration ramps leave the robot away from where the script puts it"),
 )
 
 REGISTRY: dict[str, Code] = {c.code: c for c in _CODES}

@@ -10,12 +10,16 @@ is never refused for being too fast: it is slowed, ramped, held.
   translation is held (turning allowed) until the command or the distance changes.
 - Acceleration: the velocity the robot is given changes per axis of the body frame at most at
   `max_linear_acceleration` (v_x, v_y) and `max_angular_acceleration` (v_theta), as ROS 2
-  nav2's velocity smoother does: a step of the command becomes a linear ramp at the limit
-  (`robots.Ramp`, on the 1 ms grid; the backend steps it). v_x and v_y ramp together over the
-  time the larger change needs (nav2's `scale_velocities`), so the planar speed stays within
-  its limit during the ramp. The hold brakes at the limit too. A move from rest to rest keeps
-  its distance per axis: the ramp down after the command's stop gives back what the ramp up
-  lost.
+  nav2's velocity smoother does: a step of the command becomes a linear ramp (`motion.Ramp`,
+  on the 1 ms grid; the backend steps it). v_x and v_y ramp together over the time the larger
+  change needs (nav2's `scale_velocities`), so the planar speed stays within its limit during
+  the ramp. When the actuators issue a block (`plan_block`), its move track is known ahead:
+  the motions whose ramps fit in the block are ramped centred on their changes (starting half
+  a ramp before), so the robot covers exactly the script's distance; the others, and every
+  change the plan could not know (the operator, a freeze, a hold, a person: `drop_plan`), are
+  ramped late, from the change, at the limit (`motion.Shaper`). A late move from rest to rest
+  keeps its distance per axis: the ramp down after the command's stop gives back what the ramp
+  up lost. The hold brakes at the limit too.
 - LEDs: at most `max_led_flash_rate` onsets (dark to lit) in any one-second window, as K002
   counts them. An onset beyond it is not shown: the LEDs stay dark until the window allows
   one, then show what the script asks at that moment (the session wakes the governor then).
@@ -25,8 +29,9 @@ A command is applied at the end of the instant it was given in (`end_instant`; o
 moves on), so commands that cancel out within one millisecond (a move's stop and the next
 move's start) are not ramps. Every clamp is written in the trace as a `governor` event with the
 `reasons` (`speed`, `angular-speed`, `human-distance`, `acceleration`, `angular-acceleration`,
-`led-flash`), the `commanded` and the `applied` value, and for a ramp its `target` and
-`ramp_ms`; for a held onset, `until`. Each is counted in `clamps`.
+`led-flash`), the `commanded` and the `applied` value, and for a late ramp its `target` and
+`ramp_ms`; for a held onset, `until`. Each is counted in `clamps`. A centred ramp is not a
+clamp: it changes nothing of where the robot goes (docs/robot.md, "In the trace").
 """
 
 from __future__ import annotations

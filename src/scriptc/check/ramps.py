@@ -1,0 +1,315 @@
+"""K003 (pass 7, safety; docs/robot.md "Acceleration"): where the run-time governor's ramps
+change where the robot ends up, predicted before the run with the same code the run uses
+(`scriptc.motion`).
+
+The governor ramps every change of speed at the profile's acceleration. Within an instruction
+block the move track is known when the block is issued, so a motion (one group's velocity
+between two rests: the plane, or the turn) whose ramps all fit in the block gets them centred
+on its changes, and the robot covers exactly the distance of the script. The others are ramped
+late, from each change on: a motion that starts as the block starts, runs to its end, or whose
+ramps would overlap; and a block entered while the robot still moves. A late motion from rest
+to rest at one speed still keeps its distance (what the ramp up loses, the ramp down after the
+stop gives back); other late motions (a reversal, a move shorter than its ramp, turning while
+moving) do not.
+
+For each instruction block, `motion.run_block` runs the governor's plan and ramps and the
+exact kinematics from the states the robot can enter it in, and compares where the robot
+comes to rest with the pose of the script (speeds within the profile: K001 reports those).
+The states are found along the control flow: the script's first blocks are entered at rest,
+and each block passes the state it leaves the robot in (the ramp it follows, the command it
+had) to the blocks that may come next (through jumps and blocks that take no time), until
+nothing new comes (at most `MAX_ENTRIES` states per block, and a budget of runs linear in the
+script's size: blocks alike entered alike are run once). An error of at least
+`POSITION_TOLERANCE` or `HEADING_TOLERANCE` is reported, once per block: at the move starting
+the first motion the governor cannot centre (with why, and what would let it), or, when the
+block is fine on its own but not after some block, at the block's first move with that block
+labelled.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+
+from scriptc.check.context import Context
+from scriptc.check.flow import next_timed, successors
+from scriptc.diagnostics.model import Diagnostic, Label, diagnostic
+from scriptc.ir.nodes import InstructionBlock, MoveCommand, Number
+from scriptc.motion import (
+    GROUPS,
+    REST,
+    BlockRun,
+    Entry,
+    Motion,
+    centred_bound,
+    centred_ms,
+    limit_ms,
+    limit_speed,
+    rates_of,
+    ideal_pose,
+    run_block,
+    track_steps,
+)
+from scriptc.profile import Profile
+
+POSITION_TOLERANCE = 0.01  # m: a centimetre, where the robot ends up
+HEADING_TOLERANCE = math.radians(1.0)  # a degree, which way it faces
+MAX_ENTRIES = 8  # states a block is followed from (a loop of short blocks needs a few)
+# Runs of blocks (`motion.run_block`, about half a millisecond each when a ramp turns while it
+# moves) a script's check may take: a base plus so many per instruction block, so that the
+# check stays linear; past it no more states are followed.
+_RUNS_BASE = 1000
+_RUNS_PER_BLOCK = 3
+# A block whose centred ramps are bound to leave the robot within this share of the position
+# tolerance is not run (`motion.centred_bound`; the grid's rounding is far below the rest).
+_BOUND_SHARE = 0.5
+_EXIT_SEARCH = 256  # blocks that take no time crossed per search for the next blocks
+
+
+def number(n: Number) -> float | None:
+    """The number, or None when it is not a finite one (V002/V003 report those)."""
+    try:
+        v = float(n.text)
+    except ValueError:
+        return None
+    return v if math.isfinite(v) else None
+
+
+def whole_ms(n: Number) -> int | None:
+    """A time as whole milliseconds, or None (V006 reports the others)."""
+    v = number(n)
+    return int(v) if v is not None and v >= 0 and v == int(v) else None
+
+
+class _Moves:
+    """An instruction block's move track, read: the steps of its velocity (within the speed
+    limits), its length, and when each command starts (ms from the block's start)."""
+
+    __slots__ = ("index", "block", "commands", "starts", "steps", "length", "key", "ideal")
+
+    def __init__(self, index: int, block: InstructionBlock, commands: list[MoveCommand],
+                 starts: list[int], steps, length: int) -> None:
+        self.index, self.block, self.commands, self.starts = index, block, commands, starts
+        self.steps, self.length = steps, length
+        self.key = (tuple(steps), length)
+        self.ideal = None  # where the steps take the robot (`motion.ideal_pose`), when needed
+
+    def command_at(self, t: int) -> MoveCommand | None:
+        """The command that starts at `t`, or the last one started before."""
+        found = None
+        for command, start in zip(self.commands, self.starts):
+            if start > t:
+                break
+            found = command
+        return found
+
+
+def _read(index: int, block: InstructionBlock, profile: Profile) -> _Moves | None:
+    length = block.duration_ms
+    if not length or length < 0:
+        return None
+    moves, starts = [], []
+    t = 0
+    for mv in block.moves:
+        values = (number(mv.v_x), number(mv.v_y), number(mv.v_theta))
+        wait, duration = whole_ms(mv.wait_t), whole_ms(mv.duration)
+        if None in values or wait is None or duration is None:
+            return None
+        t += wait
+        starts.append(t)
+        t += duration
+        moves.append((limit_speed(values, profile)[0], wait, duration))
+    return _Moves(index, block, list(block.moves), starts, track_steps(moves), length)
+
+
+def _off(error) -> tuple[float, float]:
+    return math.hypot(error[0], error[1]), error[2]
+
+
+def _matters(error) -> bool:
+    position, heading = _off(error)
+    return position >= POSITION_TOLERANCE or abs(heading) >= HEADING_TOLERANCE
+
+
+def _at_rest(entry: Entry) -> bool:
+    return entry.ramp is None and not any(entry.target) and not any(entry.command)
+
+
+def check_ramps(ctx: Context, profile: Profile, out: list[Diagnostic]) -> None:
+    blocks = ctx.blocks
+    reads = [_read(i, b, profile) if isinstance(b, InstructionBlock) else None
+             for i, b in enumerate(blocks)]
+    if not blocks or not any(r is not None and r.block.moves for r in reads):
+        return  # nothing moves
+    rates = rates_of(profile)
+    timed = [r is not None or (isinstance(b, InstructionBlock) and b.duration_ms != 0)
+             for r, b in zip(reads, blocks)]
+    succ = successors(ctx)[0]
+    exits: dict[int, list[tuple[int, int]]] = {}
+    runs: dict[tuple[int, tuple], BlockRun] = {}
+    alike: dict[tuple, BlockRun] = {}
+    budget = _RUNS_BASE + _RUNS_PER_BLOCK * sum(r is not None for r in reads)
+
+    # A chain: blocks from the one the robot starts to move in (entered at rest) to the one it
+    # comes to rest in (or the script's end). Its error is the sum of its blocks' errors, each
+    # block's run assuming the robot stops at its end: where the next block goes on moving,
+    # what that stop would add is taken back by the next block's run from the state the robot
+    # is really in (`motion.run_block`). It is reported at the block whose run adds the most
+    # (`blame`). The states along the control flow: (block, entry, error so far, the chain's
+    # first block, blame), at most MAX_ENTRIES per block.
+    seen: list[set[tuple]] = [set() for _ in blocks]
+    found: dict[int, tuple] = {}  # blamed block -> (error, its entry, the chain's first block)
+    start = (REST, (0.0, 0.0, 0.0), -1, (-1, None, 0.0))
+    todo = deque((b, *start) for b, _ in next_timed(blocks, succ, timed, (0,), _EXIT_SEARCH))
+    while todo:
+        b, entry, error, first, blame = todo.popleft()
+        key = (entry.key(), error, first, blame)
+        if key in seen[b] or len(seen[b]) >= MAX_ENTRIES:
+            continue
+        seen[b].add(key)
+        if first < 0:
+            first = b
+        moves = reads[b]
+        if moves is None or (not moves.commands and entry is REST):
+            # times not readable (V006): start again at rest; or nothing moves here
+            leaving, total = REST, error
+        else:
+            run = runs.get((b, entry.key()))
+            if run is None:
+                # blocks alike entered alike run alike (a script repeats its blocks)
+                same = (moves.key, entry.key())
+                run = alike.get(same)
+                if run is None:
+                    if len(alike) >= budget:
+                        break  # the script's work is spent: what is found is reported
+                    run = alike[same] = _run(entry, moves, rates)
+                runs[(b, entry.key())] = run
+            leaving = run.exit
+            # rounded, so that a loop of blocks moving on at one speed comes back to a state
+            total = tuple(round(a + e, 9) for a, e in zip(error, run.error))
+            size = round(_size(run.error), 9)
+            if size > blame[2]:
+                blame = (b, entry.key(), size)
+        if b not in exits:
+            exits[b] = next_timed(blocks, succ, timed, succ[b], _EXIT_SEARCH)
+        if _at_rest(leaving) or not exits[b]:
+            if _matters(total) and blame[0] >= 0:
+                worst = found.get(blame[0])
+                if worst is None or _size(total) > _size(worst[0]):
+                    found[blame[0]] = (total, blame[1], first)
+            todo.extend((c, *start) for c, _ in exits[b])
+        else:
+            todo.extend((c, leaving, total, first, blame) for c, _ in exits[b])
+
+    for b, (error, entry_key, first) in sorted(found.items()):
+        out.append(_report(ctx, reads[b], runs[(b, entry_key)], error, first, rates, profile))
+
+
+def _run(entry: Entry, moves: _Moves, rates) -> BlockRun:
+    """`motion.run_block`, or nothing to run: a block entered at rest whose motions are all
+    centred, and ramp together too little to come near the tolerance (`centred_bound`), ends
+    at rest within a fraction of it (its error is taken as none)."""
+    if entry is REST:
+        centred = centred_bound(moves.steps, moves.length, rates)
+        if centred is not None and centred[1] < _BOUND_SHARE * POSITION_TOLERANCE:
+            return BlockRun(centred[0], REST, (0.0, 0.0, 0.0))
+    if moves.ideal is None:
+        moves.ideal = ideal_pose(moves.steps, moves.length)
+    return run_block(entry, moves.steps, moves.length, rates, exact=False, ideal=moves.ideal)
+
+
+def _size(error) -> float:
+    position, heading = _off(error)
+    return max(position / POSITION_TOLERANCE, abs(heading) / HEADING_TOLERANCE)
+
+
+# -- reporting -----------------------------------------------------------------------------------
+
+
+def _fmt(v: float) -> str:
+    return f"{v:g}"
+
+
+def _how_far(error) -> str:
+    """`3.2 cm and 12.2° (0.213 rad)`, leaving out what is within the tolerances."""
+    position, heading = _off(error)
+    parts = []
+    if position >= POSITION_TOLERANCE:
+        parts.append(f"{position * 100:.1f} cm" if position < 1 else f"{position:.2f} m")
+    if abs(heading) >= HEADING_TOLERANCE:
+        parts.append(f"{abs(math.degrees(heading)):.1f}° ({abs(heading):.3f} rad)")
+    return " and ".join(parts)
+
+
+def _profile_note(profile: Profile) -> str:
+    source = "" if profile.source == "defaults" else f" (from {profile.source})"
+    return (f"profile{source}: max-linear-acceleration = "
+            f"{_fmt(profile.max_linear_acceleration)} m/s², max-angular-acceleration = "
+            f"{_fmt(profile.max_angular_acceleration)} rad/s²")
+
+
+def _needs(motion: Motion, rates) -> tuple[int, int, tuple[int, int, int] | None]:
+    """What centring the motion needs: the wait before its first change and the time after its
+    last one (ms), and the first speed too short for the ramps around it (when it starts, how
+    long it lasts, how long its ramps need), if any."""
+    group_rates = [rates[i] for i in GROUPS[motion.group]]
+    spans = []
+    for t, v0, v1 in motion.changes:
+        m = centred_ms(limit_ms(v0, v1, group_rates))
+        spans.append((t, (m - 1) // 2, (m + 1) // 2))
+    short = next(((a[0], b[0] - a[0], a[2] + b[1]) for a, b in zip(spans, spans[1:])
+                  if b[0] - a[0] < a[2] + b[1]), None)
+    return spans[0][1], spans[-1][2], short
+
+
+def _report(ctx: Context, moves: _Moves, run: BlockRun, error, first: int, rates,
+            profile: Profile) -> Diagnostic:
+    """A chain of blocks from `first` leaves the robot away from the script's pose, and this
+    block's run adds the most to it: reported at its first motion the governor cannot
+    centre."""
+    late = [m for m in run.motions if not m.centred] or run.motions
+    motion = min(late, key=lambda m: m.changes[0][0])
+    start = motion.changes[0][0]
+    command = moves.command_at(start) or moves.commands[0]
+    what = "moves" if motion.group == 0 else "turns"
+    lead, tail, short = _needs(motion, rates)
+    stop = motion.changes[-1][0]
+    wants = []
+    if motion.late_because == "entered":
+        wants.append("end the previous block's move at least half a ramp before that block "
+                     "ends, or start this block with the velocity it ends with")
+    else:
+        if start < lead:
+            wants.append(f"start it at least {lead} ms into the block (its `wait_t`)")
+        if moves.length - stop < tail:
+            wants.append(f"let the block go on at least {tail} ms after it stops (a longer "
+                         "LED or audio track)")
+        if short is not None:
+            wants.append(f"keep each speed long enough for the ramps around it (the one from "
+                         f"{short[0]} ms lasts {short[1]} ms, its ramps need {short[2]}), or "
+                         "change it by less")
+    why = {
+        "start": "it starts as the block starts (or while the robot still moves), so its "
+                 "first ramp cannot begin before it",
+        "end": "it runs to the end of the block, and what comes next is not known before then",
+        "overlap": "its changes come faster than their ramps",
+        "entered": "the block starts while the robot still moves (or brakes) from the block "
+                   "before",
+    }[motion.late_because or "start"]
+    notes = [
+        "the governor ramps each change of speed at the robot profile's acceleration; ramps "
+        "centred on the changes keep the distance, but " + why + ": each change is ramped "
+        "from where it is, and the robot lags behind the script"]
+    labels = []
+    if first != moves.index:
+        labels.append(Label(ctx.block_head(ctx.blocks[first]),
+                            "the robot starts moving in this block"))
+        notes.append("the motion goes on from block to block: the error is counted from where "
+                     "the robot starts moving to where it comes to rest")
+    notes.append(_profile_note(profile))
+    help = ("so that the governor can centre the ramps, " + "; ".join(wants)
+            if wants else "keep one speed from the start of the motion to its stop")
+    return diagnostic(
+        "K003", f"the governor's ramps leave the robot {_how_far(error)} away from where "
+                f"the script {what} it", command.span,
+        labels=tuple(labels), notes=tuple(notes), help=help)
