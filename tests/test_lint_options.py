@@ -245,6 +245,14 @@ def test_diff_with_nothing_to_fix_passes(project: Path) -> None:
     assert run("lint", "c/c.script", "--diff", "--exit-zero").exit_code == 0
 
 
+def test_diff_still_says_what_is_wrong_in_the_configuration(project: Path) -> None:
+    (project / "scriptc.toml").write_text('[lint]\nselct = ["F"]\n')
+    result = run("lint", "w.script", "--diff")
+    assert (result.exit_code, result.stdout) == (1, "")
+    assert result.stderr.startswith("error[C001]: unknown key `selct` in `[lint]`")
+    assert result.stderr.endswith("nothing to fix\n")
+
+
 def test_fix_applies_unsafe_fixes_only_when_asked(project: Path) -> None:
     path = project / "c" / "c.script"
     safe = run("lint", "c/c.script", "--fix")
