@@ -486,3 +486,21 @@ def test_a_run_cut_while_a_centred_ramp_anticipates_its_change_brakes() -> None:
     (stop,) = trace.of_kind("governor")
     assert stop["t"] == 950 and stop["commanded"] == STILL and stop["ramp_ms"] == 75
     assert trace.of_kind("session_end")[0]["at_rest_ms"] == 1025
+
+
+def test_a_child_who_comes_while_a_centred_ramp_anticipates_its_change_stops_it() -> None:
+    """The ramp toward a move that starts at 1000 ms begins at 875 with nobody around; a
+    reading at 950 sees a child 30 cm ahead: the plan is dropped and the robot ramps back at
+    once, before the command it was anticipating."""
+    gov, trace = governed()
+    from scriptc.runtime.values import Move
+
+    gov.plan_block(0, [Move(0.25, 0, 0, 1000, 1000)], 3000)
+    gov.advance(950)
+    assert gov.velocity_at(950)[0] == pytest.approx(0.25 * 75 / 251)
+    gov.nearest = lambda t, pose: (0.3, 0.0)
+    gov.recheck(950)
+    gov.flush()
+    assert gov.target == (0.0, 0.0, 0.0)
+    (event,) = trace.of_kind("governor")
+    assert event["t"] == 950 and event["reasons"] == ["acceleration"]

@@ -19,6 +19,7 @@ from scriptc.motion import (
     Kinematics,
     Ramp,
     Shaper,
+    centred_bound,
     centred_ms,
     limit_ms,
     limit_speed,
@@ -248,3 +249,35 @@ def test_the_kinematics_follow_a_ramp_per_millisecond_or_by_quadrature() -> None
     assert 0 < math.hypot(exact.x - fast.x, exact.y - fast.y) < 1e-6
     assert exact.theta == pytest.approx(fast.theta, abs=1e-12)
     assert math.hypot(exact.x, exact.y) > 0.3  # a real path
+
+
+@st.composite
+def moves_with_room(draw):
+    """A move track whose motions all have room for centred ramps: each move waits and lasts
+    at least 600 ms (ramps within the profile's speeds take at most 501 and 1001 ms)."""
+    moves = []
+    for _ in range(draw(st.integers(1, 3))):
+        speed = draw(st.sampled_from([0, 0.1, 0.3, 0.49]))
+        angle = draw(st.sampled_from([0, 0.7, -2.0]))
+        moves.append(((round(speed * math.cos(angle), 3), round(speed * math.sin(angle), 3),
+                       draw(st.sampled_from([0, 0.4, -1.0, 1.5]))),
+                      draw(st.integers(6, 12)) * 100, draw(st.integers(6, 20)) * 100))
+    return moves
+
+
+@SLOW
+@given(moves_with_room())
+def test_the_bound_of_centred_ramps_holds(moves) -> None:
+    """What K003 uses to skip a block (`centred_bound`): the robot ends within the bound of the
+    script's position, facing its heading."""
+    steps = steps_of(*moves)
+    length = sum(wait + dur for _, wait, dur in moves) + 600
+    found = centred_bound(steps, length, RATES)
+    run = run_block(REST, steps, length, RATES)
+    if found is None:
+        assert not all(m.centred for m in run.motions)
+        return
+    motions, bound = found
+    assert all(m.centred for m in motions) and run.exit == REST
+    assert math.hypot(run.error[0], run.error[1]) <= bound + 1e-6
+    assert run.error[2] == pytest.approx(0.0, abs=1e-12)
