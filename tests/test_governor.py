@@ -16,7 +16,8 @@ from scriptc.profile import DEFAULT_PROFILE, Profile
 from scriptc.resources import schema_path
 from scriptc.runtime.governor import Governor
 from scriptc.runtime.interp import IRProgram
-from scriptc.runtime.robots import Ramp, make_robot
+from scriptc.motion import Shaper
+from scriptc.runtime.robots import make_robot
 from scriptc.runtime.robots.kinematic import KinematicRobot
 from scriptc.runtime.session import Session
 from scriptc.runtime.trace import Trace
@@ -191,8 +192,16 @@ def test_a_ramp_is_linear_at_the_limit_on_the_millisecond_grid() -> None:
     assert gov.come_to_rest(200) == 400
 
 
+def late_ramp(t0: int, start, target, rates):
+    """The ramp the governor starts at `t0` from `start` to `target`, at the limit."""
+    shaper = Shaper(rates)
+    shaper.target = start
+    shaper.late(t0, target)
+    return shaper.ramp
+
+
 def test_ramp_milliseconds_are_whole_and_end_on_the_target() -> None:
-    ramp = Ramp(100, (0.0, 0.3, 0.0), (0.25, -0.05, 0.0105), (1.0, 1.0, 3.0))
+    ramp = late_ramp(100, (0.0, 0.3, 0.0), (0.25, -0.05, 0.0105), (1.0, 1.0, 3.0))
     # the plane: the larger change (0.35 m/s at 1 m/s²) sets 350 ms for v_x and v_y together,
     # a straight line of velocities; the turn: 3.5 ms at 3 rad/s² take 4 whole ms
     assert ramp.steps == (350, 350, 4) and ramp.end == 450
@@ -201,17 +210,19 @@ def test_ramp_milliseconds_are_whole_and_end_on_the_target() -> None:
     assert ramp.velocity(103)[2] == pytest.approx(0.0105 * 3 / 4)
     assert ramp.velocity(104)[2] == 0.0105
     assert ramp.velocity(450) == ramp.target == ramp.velocity(9999)
-    sums = ramp.totals(1, 400)
+    sums = ramp.sums(100, 500)
     assert sums == pytest.approx(tuple(sum(ramp.at(k)[i] for k in range(1, 401))
                                        for i in range(3)))
-    assert Ramp.between(0, (0.0,) * 3, (0.001, 0.0, 0.0), (1.0, 1.0, 3.0)) is None
+    # a change of at most a * 1 ms is no ramp: at once (on the grid the two are the same)
+    shaper = Shaper((1.0, 1.0, 3.0))
+    assert shaper.late(0, (0.001, 0.0, 0.003)) == {0: 1, 1: 1} and shaper.ramp is None
 
 
 def test_the_planar_speed_stays_within_its_limit_during_ramps() -> None:
     """v_x and v_y ramp together: between two velocities within the limit, every velocity of
     the ramp is within it (independent axes would reach 0.54 m/s here)."""
     start, target = (0.355, 0.352, 0.0), (0.4999, -0.001, 0.0)
-    ramp = Ramp(0, start, target, (A, A, ALPHA))
+    ramp = late_ramp(0, start, target, (A, A, ALPHA))
     assert max(math.hypot(*ramp.at(k)[:2]) for k in range(ramp.end + 1)) <= 0.5
 
 

@@ -55,7 +55,7 @@ def test_a_centred_ramp_covers_the_distance_of_the_step(v0: float, v1: float, ra
     m = centred_ms(limit_ms([v0], [v1], [rate]))
     assert m % 2 == 1
     start = edge - (m - 1) // 2
-    ramp = Ramp.scheduled((start, start, start), (0.0, 0.0, v0), (0.0, 0.0, v1), (0, 0, m))
+    ramp = Ramp((start, start, start), (0.0, 0.0, v0), (0.0, 0.0, v1), (0, 0, m))
     lo, hi = start - 3, start + m + 3
     step = sum(v0 if t <= edge else v1 for t in range(lo + 1, hi + 1))  # ms ending at t
     assert ramp.sums(lo, hi)[2] == pytest.approx(step, rel=1e-9, abs=1e-12)
@@ -63,7 +63,7 @@ def test_a_centred_ramp_covers_the_distance_of_the_step(v0: float, v1: float, ra
 
 
 def test_ramp_sums_agree_with_the_milliseconds() -> None:
-    ramp = Ramp.scheduled((10, 10, 40), (0.0, 0.3, 1.0), (0.25, -0.05, -0.5), (350, 350, 7))
+    ramp = Ramp((10, 10, 40), (0.0, 0.3, 1.0), (0.25, -0.05, -0.5), (350, 350, 7))
     for a, b in ((0, 500), (5, 45), (41, 46), (300, 361), (359, 420)):
         assert ramp.sums(a, b) == pytest.approx(
             tuple(sum(ramp.velocity(t)[i] for t in range(a + 1, b + 1)) for i in range(3)))
@@ -238,7 +238,9 @@ def test_the_kinematics_follow_a_ramp_per_millisecond_or_by_quadrature() -> None
     """The runtime integrates each millisecond of a ramp that turns while it moves; the check
     integrates the stretch by quadrature instead (`exact=False`): the same pose within a
     micrometre, the same heading."""
-    ramp = Ramp(0, (0.0, 0.0, 0.0), (0.4, 0.1, 1.2), RATES)
+    shaper = Shaper(RATES)
+    shaper.late(0, (0.4, 0.1, 1.2))
+    ramp = shaper.ramp
     poses = []
     for exact in (True, False):
         robot = Kinematics(exact=exact)

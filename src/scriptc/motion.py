@@ -101,33 +101,15 @@ def centred_ms(n: int) -> int:
 class Ramp:
     """Linear changes of velocity on the 1 ms grid, one per axis (module docstring).
 
-    `Ramp(t0, start, target, rates)` is a late ramp: every axis from `t0`, at the limit
-    (`limit_ms` per group: the axes of a group share the duration the larger change needs).
-    `Ramp.scheduled` gives each axis its own start and length. Axis i has `start[i]` up to
+    Each axis has its own start and length (the `Shaper` makes them: the axes of a group
+    share the duration the larger change needs, `limit_ms`). Axis i has `start[i]` up to
     `t0s[i]`, then `start[i] + k * step[i]` during the k-th millisecond after it, and
     `target[i]` from `t0s[i] + steps[i]` on. `end` is the millisecond every axis is on its
     target; `t0` the earliest start."""
 
     __slots__ = ("t0s", "start", "target", "step", "steps", "ends", "t0", "end")
 
-    def __init__(self, t0: int, start: Velocity, target: Velocity,
-                 rates: tuple[float, float, float]) -> None:
-        steps = [0, 0, 0]
-        for group in GROUPS:
-            n = limit_ms([start[i] for i in group], [target[i] for i in group],
-                         [rates[i] for i in group])
-            for i in group:
-                if start[i] != target[i]:
-                    steps[i] = n
-        self._fill((t0, t0, t0), start, target, steps)
-
-    @classmethod
-    def scheduled(cls, t0s, start: Velocity, target: Velocity, steps) -> Ramp:
-        ramp = cls.__new__(cls)
-        ramp._fill(t0s, start, target, steps)
-        return ramp
-
-    def _fill(self, t0s, start, target, steps) -> None:
+    def __init__(self, t0s, start: Velocity, target: Velocity, steps) -> None:
         self.t0s = t0s = tuple(t0s)
         self.start = start = tuple(start)
         self.target = target = tuple(target)
@@ -140,16 +122,6 @@ class Ramp:
         ramping = [i for i in (0, 1, 2) if steps[i]]
         self.t0 = min([t0s[i] for i in ramping]) if ramping else t0s[0]
         self.end = max([ends[i] for i in ramping]) if ramping else self.t0
-
-    @classmethod
-    def between(cls, t0: int, start: Velocity, target: Velocity,
-                rates: tuple[float, float, float] | None) -> Ramp | None:
-        """The late ramp, or None when the change takes at most one millisecond (no ramp:
-        within the step, a change at once and a ramp are the same thing on the grid)."""
-        if rates is None:
-            return None
-        ramp = cls(t0, start, target, rates)
-        return ramp if ramp.end - t0 > 1 else None
 
     def velocity(self, t_ms: int) -> Velocity:
         """The velocity during the millisecond that ends at `t_ms` (reached at its end)."""
@@ -201,10 +173,6 @@ class Ramp:
                 total += (hi - after + 1) * v1
             out.append(total)
         return tuple(out)  # type: ignore[return-value]
-
-    def totals(self, k1: int, k2: int) -> Velocity:
-        """`sums` over the milliseconds k1..k2 after `t0`."""
-        return self.sums(self.t0 + k1 - 1, self.t0 + k2)
 
 
 # -- the plan of a block's move track -----------------------------------------------------------
@@ -337,7 +305,7 @@ class Shaper:
                 t0s[i], start[i], target[i] = t, now[i], v
                 steps[i] = n if n > 1 and now[i] != v else 0
         self.target = tuple(target)  # type: ignore[assignment]
-        ramp = Ramp.scheduled(t0s, start, target, steps)
+        ramp = Ramp(t0s, start, target, steps)
         self.ramp = ramp if any(steps) else None
 
     def late(self, t: int, target: Velocity) -> dict[int, int]:
@@ -621,7 +589,7 @@ class BlockRun(NamedTuple):
 def _shifted(ramp: Ramp | None, by: int) -> Ramp | None:
     if ramp is None or ramp.end <= by:
         return None
-    return Ramp.scheduled([t - by for t in ramp.t0s], ramp.start, ramp.target, ramp.steps)
+    return Ramp([t - by for t in ramp.t0s], ramp.start, ramp.target, ramp.steps)
 
 
 def run_block(entry: Entry, steps: list[tuple[int, Velocity]], length: int,
