@@ -16,7 +16,7 @@ from hypothesis import strategies as st
 import fuzzing
 
 SCALE = 0.05
-EXAMPLES_PER_ENTRY = 12
+EXAMPLES_PER_ENTRY = 30
 
 
 @st.composite
