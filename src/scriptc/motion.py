@@ -667,20 +667,16 @@ def centred_bound(steps: list[tuple[int, Velocity]], length: int,
     motions = shaper.plan(0, length, steps, ZERO)
     if not all(m.centred for m in motions):
         return None
-    times, values = shaper.expected_times, shaper.expected
+    times = shaper.expected_times
+    # the ideal speeds from each step on: planar, turning
+    speeds = ([math.hypot(v[0], v[1]) for v in shaper.expected],
+              [abs(v[2]) for v in shaper.expected])
     longest = max((p.steps for p in shaper.planned), default=0)
 
     def fastest(lo: int, hi: int, group: int) -> float:
         """The fastest ideal speed of a group over [lo, hi] (planar or turning)."""
-        best = 0.0
-        for i, t in enumerate(times):
-            if t > hi:
-                break
-            nxt = times[i + 1] if i + 1 < len(times) else math.inf
-            if nxt >= lo:
-                v = values[i]
-                best = max(best, math.hypot(v[0], v[1]) if group == 0 else abs(v[2]))
-        return best
+        return max(speeds[group][max(0, bisect_right(times, lo) - 1):bisect_right(times, hi)],
+                   default=0.0)
 
     bound = 0.0
     before = [(0.0, 0.0), (0.0,)]

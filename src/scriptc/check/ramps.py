@@ -62,7 +62,7 @@ _RUNS_BASE = 1000
 _RUNS_PER_BLOCK = 3
 # A block whose centred ramps are bound to leave the robot within this share of the position
 # tolerance is not run (`motion.centred_bound`; the grid's rounding is far below the rest).
-_BOUND_SHARE = 0.5
+_BOUND_SHARE = 0.9
 _EXIT_SEARCH = 256  # blocks that take no time crossed per search for the next blocks
 
 
