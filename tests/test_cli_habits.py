@@ -131,6 +131,19 @@ def test_completing_options_and_their_choices(tmp_path: Path) -> None:
     assert complete("bash", "scriptc lint ", 2) == "file,\n"
 
 
+def test_completion_in_process() -> None:
+    """The same protocol as above, through click's completer in this process."""
+    from click.shell_completion import BashComplete
+
+    completer = BashComplete(cli, {}, "scriptc", "_SCRIPTC_COMPLETE")
+    assert [(c.value, c.help) for c in completer.get_completions([], "li")] == [
+        ("lint", VERBS["lint"][1])]
+    assert [c.value for c in completer.get_completions([], "--co")] == ["--color", "--colour"]
+    assert [c.value for c in completer.get_completions(["lint"], "--exi")] == ["--exit-zero"]
+    assert run("completion", "bash").stdout == completer.source()
+    assert cli.list_commands(None) == list(VERBS) and cli.get_command(None, "nope") is None
+
+
 def test_completing_verbs_imports_none_of_them() -> None:
     probe = ("import os, sys\nfrom scriptc.cli.main import main\nsys.argv = ['scriptc']\n"
              "try:\n    main()\nexcept SystemExit:\n    pass\n"

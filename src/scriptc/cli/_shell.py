@@ -124,17 +124,11 @@ def write_bytes(data: bytes) -> None:
     stream.flush()
 
 
-def show(results: list[driver.Analysis], format_: str = "text", *, err: bool = False) -> None:
-    """Render diagnostics (text to a terminal in colour when `--color` allows it)."""
+def show(results: list[driver.Analysis], *, err: bool = False) -> None:
+    """Diagnostics as text on stdout (or stderr), in colour when `--color` allows it. The
+    other formats are `lint`'s and `check`'s (`rendered`, `emit_output`)."""
     stream = sys.stderr if err else sys.stdout
-    if format_ == "grouped":
-        write(render_grouped(results), err=err)
-        return
-    output = render(format_, results, color=format_ == "text" and use_color(stream))
-    if format_ == "text":
-        write(output, err=err)
-    else:
-        write_bytes(output.encode("utf-8"))
+    write(render("text", results, color=use_color(stream)), err=err)
 
 
 def check_output(path: str) -> None:
