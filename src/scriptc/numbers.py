@@ -99,10 +99,13 @@ def json_number(raw: str, is_integer: bool) -> int | float:
 def whole_number(text: str) -> int | None:
     """The value of a whole number's text (ASCII digits, an optional sign), or None when it
     has more digits than any number the policy accepts (so no caller converts a 5,000-digit
-    text: Python refuses beyond 4,300 digits)."""
-    if len(text.lstrip("+-")) > MAX_DIGITS:
+    text: Python refuses beyond 4,300 digits, leading zeros included, which are dropped
+    here: `000...0001` of a million digits is 1)."""
+    sign = "-" if text.startswith("-") else ""
+    digits = text.lstrip("+-").lstrip("0") or "0"
+    if len(digits) > MAX_DIGITS:
         return None
-    return int(text)
+    return int(sign + digits)
 
 
 class NonFiniteOutput(ValueError):

@@ -60,6 +60,7 @@ from scriptc.ir.nodes import (
     VarAssignment,
     VarRef,
 )
+from scriptc.numbers import whole_number
 from scriptc.source import SourceFile, Span
 
 __all__ = ["CodegenError", "codegen", "emit_bytecode"]
@@ -124,7 +125,9 @@ class _Codegen:
     def whole(number: Number, what: str) -> int:
         text = number.text
         if text.isascii() and text.isdigit():
-            value = int(text)
+            value = whole_number(text)
+            if value is None:
+                raise CodegenError(f"{what} `{text[:20]}...` does not fit in 32 bits")
         else:
             try:
                 exact = Decimal(text.strip())

@@ -41,6 +41,7 @@ from scriptc.ir.nodes import (
     block_path,
 )
 from scriptc.emit.condition import condition_text
+from scriptc.numbers import whole_number
 
 __all__ = ["EmitError", "emit_json", "label_paths"]
 
@@ -55,7 +56,10 @@ def _integer(number: Number, what: str) -> str:
     text = number.text
     if text.isascii() and text.isdigit():
         # The common case, and it keeps leading zeros out of the JSON (`007` -> `7`).
-        return str(int(text))
+        value = whole_number(text)
+        if value is None:
+            raise EmitError(f"{what} `{text[:20]}...` is too large")
+        return str(value)
     try:
         value = Decimal(text.strip())
     except InvalidOperation:

@@ -42,6 +42,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from scriptc.ir import nodes as ir
+from scriptc.numbers import whole_number
 from scriptc.runtime.values import Instruction, RuleMessage
 
 
@@ -241,7 +242,11 @@ class Override(Rule):
             if m is None:
                 raise RuleError("override: `at` is a path `goalG/actA/blkB`, "
                                 f"found `{params['at']}`")
-            self.goal, self.action, self.block = (int(x) for x in m.groups())
+            indexes = [whole_number(x) for x in m.groups()]  # the number policy's digits
+            if None in indexes:
+                raise RuleError(f"override: `at` names a goal, action or block beyond any "
+                                f"script, found `{params['at'][:40]}...`")
+            self.goal, self.action, self.block = indexes
         self.fired = False
 
     def on_true(self, ctx: RuleContext) -> None:

@@ -41,6 +41,7 @@ from __future__ import annotations
 import os
 from dataclasses import dataclass, field
 
+from scriptc.numbers import whole_number
 from scriptc.runtime.actuators import ZERO, Actuators
 from scriptc.runtime.bindings import READER, Bindings
 from scriptc import interrupt
@@ -687,8 +688,10 @@ class Session:
         same = executor is not None and self.current_program is program
         goal_ids = (executor.goal_ids if same else program.executor().goal_ids)
         if isinstance(goal, str):
-            if goal.isdigit():
-                goal = int(goal)
+            # (A number of hundreds of digits, beyond the number policy, names no goal.)
+            index = whole_number(goal) if goal.isascii() and goal.isdigit() else None
+            if index is not None:
+                goal = index
             elif goal in goal_ids:
                 goal = goal_ids.index(goal)
             else:
