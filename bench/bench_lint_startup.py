@@ -1,6 +1,6 @@
 """Cold start of `scriptc lint`: the wall time of a fresh process linting one small script.
 
-Budget: 250 ms (the CLI's lazy imports exist for it: toolchain-facts.md, "Import costs").
+Budget: 250 ms (the CLI's lazy imports exist for it: docs/performance.md).
 Each run is a new interpreter, so every import is paid again; the operating system's file
 cache is warm after the first run, as it is for a user who lints repeatedly. The headline
 figure has Python's bytecode cache (as an installed wheel has: pip compiles it), kept in a

@@ -1,6 +1,7 @@
 """Cold start: `scriptc lint` imports only what linting uses. pygls (~0.4 s), mujoco and
-jsonschema are for other verbs, and rich only colours a terminal (toolchain-facts.md, "Import
-costs"). Each check runs the CLI in a fresh interpreter and looks at sys.modules at exit."""
+jsonschema are for other verbs, rich only colours a terminal and watchfiles only serves `--watch`
+(docs/performance.md). Each check runs the CLI in a fresh interpreter and looks at sys.modules
+at exit."""
 
 from __future__ import annotations
 
