@@ -22,7 +22,9 @@ laws:
 - `scenario`: a scenario file is read or refused with every problem at a line and column;
   what is read runs (both executors, the same trace);
 - `config`: a configuration is read with every problem inside the file; every function it
-  declares is one the run time registers (the name rule is one fact).
+  declares is one the run time registers (the name rule is one fact);
+- `editor`: the language server's library opens the text and follows a few edits; the
+  incremental analysis equals a fresh one after each, and every feature answers.
 
 The randomness comes from one function, `pick(lo, hi)` (an integer in [lo, hi]): hypothesis
 draws it in the suite (tests/test_fuzz.py, so failures shrink and replay), `random.Random` in
@@ -422,6 +424,78 @@ def config(data: bytes) -> None:
     loaded.settings.registry  # noqa: B018 - building it must not raise
 
 
+# Text an editor types: tokens of both grammars, line ends, non-ASCII (two-unit emoji too),
+# lone surrogates and NUL (what a UTF-16 client that split a pair sends).
+_TYPED = ["[", "]", "#", "(", ")", "{", "}", '"', "%", ",", ":", "!", "?", " ", "\n", "\r\n",
+          "\r", "a", "0", ".5", "1e999", "é", "😀", "\ud83d", "\x00", "b##", "blk_jump",
+          "TRJMP(", "CND(! {TRUE})", "MV() LD() AO()", "[b##blk_terminus]", "[action]",
+          "[goal:g]", "?THIS>&positionrho", "% scriptc: ignore[F001] %"]
+
+
+def editor(data: bytes) -> None:
+    """The language server's library (`scriptc.ide`), as a session drives it: the mutated text
+    opened as a document, then edited a few times (insertions, deletions, replacements drawn
+    from the bytes themselves, so an input replays); after each edit the incremental analysis
+    equals a fresh one of the document's text, and every feature answers at several offsets
+    (hover, completion, definition, references, rename, symbols, folding, semantic tokens,
+    inlay hints, code actions, formatting) without raising."""
+    import random
+    import zlib
+
+    from scriptc.driver import analyze_script
+    from scriptc.ide.document import Document
+    from scriptc.source import SourceFile, Span
+
+    rng = random.Random(zlib.crc32(data))
+    doc = Document("file:///fuzz.script", data.decode("utf-8", errors="replace"),
+                   path="fuzz.script")
+    # A megabyte of text costs seconds per analysis (linear, but a million items): fewer
+    # edits keep such an input under the campaign's `--slow`.
+    for step in range(5 if len(data) < 100_000 else 2):
+        if step:
+            n = len(doc.text)
+            start = rng.randint(0, n)
+            end = min(n, start + rng.choice((0, 0, 1, 3, 20)))
+            doc.replace(start, end, rng.choice(_TYPED) if rng.random() < 0.8 else "")
+        snapshot = doc.snapshot()
+        layout = snapshot.layout
+        real = [(d.code, layout.to_real(d.span.start), layout.to_real(d.span.end))
+                for d in snapshot.diagnostics]
+        fresh = [(d.code, d.span.start, d.span.end)
+                 for d in analyze_script(SourceFile(doc.path, doc.text)).diagnostics]
+        _law(real == fresh, "editor: incremental analysis equals a fresh one",
+             f"after {step} edits")
+        _features(snapshot, rng, Span)
+
+
+def _features(snapshot, rng, Span) -> None:
+    from scriptc.ide import actions, completion, formatting, hints, hover, navigation, outline
+    from scriptc.ide import tokens
+    from scriptc.ide.model import RenameError
+
+    text = snapshot.text
+    whole = Span(0, len(text))
+    outline.document_symbols(snapshot)
+    outline.folding_ranges(snapshot)
+    tokens.semantic_tokens(snapshot)
+    hints.inlay_hints(snapshot, whole)
+    actions.code_actions(snapshot, whole)
+    actions.fix_all(snapshot)
+    if len(text) < 200_000:  # formatting a 1 MB line is the fmt entry's (and slow)
+        formatting.format_document(text)
+    for _ in range(4):
+        offset = rng.randint(0, len(text))
+        hover.hover(snapshot, offset)
+        completion.complete(snapshot, offset)
+        navigation.definition(snapshot, offset)
+        navigation.references(snapshot, offset)
+        try:
+            navigation.prepare_rename(snapshot, offset)
+            navigation.rename(snapshot, offset, rng.choice(("renamed", "x-y", "a b", "")))
+        except RenameError:
+            pass  # a refusal the editor shows: the answer for a name that cannot be renamed
+
+
 @dataclass(frozen=True)
 class Entry:
     name: str
@@ -438,6 +512,7 @@ ENTRIES: dict[str, Entry] = {e.name: e for e in (
     Entry("check", "json", check),
     Entry("scenario", "scenario", scenario),
     Entry("config", "config", config),
+    Entry("editor", "script", editor),
 )}
 
 

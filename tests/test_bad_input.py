@@ -108,3 +108,20 @@ def test_crlf_and_lone_cr_line_endings() -> None:
     text = "[act]\r\n[goal:g]\r[action]\r\n[b##blk_jump: CND(! {TRUE}) TRJMP(x) FLSJMP()]\r\n[b#x#blk_terminus]"
     analysis = analyze_script(SourceFile("crlf.script", text))
     assert analysis.ok
+
+
+def test_completion_in_a_megabyte_word_is_linear() -> None:
+    """Completion read the word before the cursor with a regex anchored at the end, which
+    retried the rest of a run of name characters from each of them: quadratic (the fuzz
+    campaign's `editor: hang`, a 1 MB word then a bracket took minutes)."""
+    import time
+
+    from scriptc.ide.completion import complete
+    from scriptc.ide.snapshot import Snapshot
+
+    text = HEAD + "[b##blk_jump: CND(" + "x" * 200_000 + ")" + "abc"
+    snapshot = Snapshot.of_text(text)
+    start = time.process_time()
+    items = complete(snapshot, len(text))
+    took = time.process_time() - start
+    assert [i.label for i in items] == ["TRJMP"] and took < 5, took

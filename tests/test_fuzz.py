@@ -96,6 +96,8 @@ REGRESSIONS = {
         "test_bad_input.py::test_a_megabyte_of_blanks_in_an_audio_path_is_linear",
     "fmt: hang, a megabyte of blanks before a syntax error":
         "test_bad_input.py::test_a_megabyte_of_blanks_before_a_syntax_error_is_linear",
+    "editor: hang, completion in a megabyte word":
+        "test_bad_input.py::test_completion_in_a_megabyte_word_is_linear",
     "fmt: crash, a time of a million leading zeros": "cases/checks/leading_zeros.script",
     "run: an override's goal of thousands of digits": "cases/runtime/override_huge_numbers.script",
 }

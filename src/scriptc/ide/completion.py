@@ -27,7 +27,10 @@ from scriptc.source import Span
 
 __all__ = ["complete"]
 
-_WORD_CHARS = re.compile(r"[A-Za-z0-9_-]*\Z")
+# The word being typed: the run of name characters that ends at the cursor. The lookbehind
+# makes the search start only where a run starts; without it the search retried the rest of a
+# run from each of its characters (quadratic: completion in a 1 MB word took minutes).
+_WORD_CHARS = re.compile(r"(?<![A-Za-z0-9_-])[A-Za-z0-9_-]*\Z")
 _STRING = re.compile(r'"(?:\\.|[^"\\\n\r])*"')
 _COMMENT = re.compile(r"%[^%]*%")
 _OPEN_COMMENT = re.compile(r"%[^%]*\Z")
