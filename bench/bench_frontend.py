@@ -4,7 +4,7 @@ import sys, time
 from pathlib import Path
 sys.path.insert(0, str(Path(__file__).parent))
 from generate import script_of_size
-from scriptc.ir.lower import lower_script
+from scriptc.frontend.script import lower_script
 from scriptc.source import SourceFile
 from scriptc.syntax.parser import script_lark, script_parser
 from scriptc.syntax.scan import scan

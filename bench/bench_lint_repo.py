@@ -87,7 +87,7 @@ def where_the_time_goes(root: Path, sample: int) -> None:
     from scriptc.check import check_script
     from scriptc.driver import decode_source
     from scriptc.gcpause import gc_paused
-    from scriptc.ir.lower import lower_script
+    from scriptc.frontend.script import lower_script
 
     paths = sorted(root.rglob("*.script"))[:sample]
     front = checks = 0.0

@@ -71,7 +71,7 @@ def main() -> None:
 
         # In process: the same run without process start, and the bare stepping.
         from scriptc.driver import analyze_file
-        from scriptc.profile import DEFAULT_PROFILE
+        from scriptc.robot.profile import DEFAULT_PROFILE
         from scriptc.runtime.interp import IRProgram
         from scriptc.runtime.robots.mujoco import MujocoRobot, load_model
         from scriptc.runtime.session import Session

@@ -21,7 +21,7 @@ import argparse
 import time
 
 from scriptc.driver import analyze_bytes
-from scriptc.ir.lower import parse_condition
+from scriptc.frontend.script import parse_condition
 from scriptc.runtime.bindings import READER, Bindings
 from scriptc.runtime.evaluate import EvalContext, evaluate
 from scriptc.runtime.functions import STANDARD_IMPLEMENTATIONS

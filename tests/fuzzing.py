@@ -255,7 +255,7 @@ def compile_(data: bytes) -> None:
     from scriptc import bytecode
     from scriptc.driver import emit
     from scriptc.emit.script import format_script
-    from scriptc.ir.from_json import script_from_json
+    from scriptc.frontend.thesis_json import script_from_json
     from scriptc.source import SourceFile
 
     analysis = _analysis(data)
@@ -272,7 +272,7 @@ def compile_(data: bytes) -> None:
 
 
 def fmt(data: bytes) -> None:
-    from scriptc.fmt import format_text
+    from scriptc.formatter import format_text
 
     analysis = _analysis(data)
     if analysis.script is None and any(d.code == "P007" for d in analysis.diagnostics):
@@ -335,8 +335,8 @@ def _traces(script, source, scenario, profile=None) -> tuple[list[str], list[str
 
 
 def _run_law(script, source, scenario, entry: str) -> None:
-    from scriptc.config import Settings
-    from scriptc.profile import profile_from_settings
+    from scriptc.project.config import Settings
+    from scriptc.robot.profile import profile_from_settings
     from scriptc.runtime.summary import summary_json
 
     for profile in (None, profile_from_settings(Settings())):
@@ -404,7 +404,7 @@ def scenario(data: bytes) -> None:
 
 
 def config(data: bytes) -> None:
-    from scriptc.config import load_config
+    from scriptc.project.config import load_config
     from scriptc.runtime.functions import STANDARD_IMPLEMENTATIONS
 
     with tempfile.TemporaryDirectory() as folder:
@@ -471,7 +471,7 @@ def editor(data: bytes) -> None:
 def _features(snapshot, rng, Span) -> None:
     from scriptc.ide import actions, completion, formatting, hints, hover, navigation, outline
     from scriptc.ide import tokens
-    from scriptc.ide.model import RenameError
+    from scriptc.ide.answers import RenameError
 
     text = snapshot.text
     whole = Span(0, len(text))

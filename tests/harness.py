@@ -47,7 +47,7 @@ def expect(path: Path, actual: str) -> None:
 
 def case_files(suffix: str) -> list[Path]:
     """The case files with this suffix: not the golden outputs, and nothing in a hidden folder
-    (a `.scriptc_cache` that linting `config/repo` from an editor leaves at its root, as every
+    (a `.scriptc_cache` that linting `project/config/repo` from an editor leaves at its root, as every
     project gets one)."""
     return sorted(p for p in CASES.rglob(f"*{suffix}") if not p.name.endswith((".out.json",))
                   and not any(part.startswith(".") for part in p.relative_to(CASES).parts))

@@ -362,7 +362,7 @@ def test_names_with_line_breaks_are_refused_when_given():
 
 
 def test_a_robot_profile_is_passed_to_the_safety_checks():
-    from scriptc.profile import Profile
+    from scriptc.robot.profile import Profile
 
     act = Activity("fast")
     act.goal("g").action().instruction(moves=[move(0.3, 0, 0, duration=1000)]).terminus()
@@ -400,7 +400,7 @@ def _condition_texts():
 
 @pytest.mark.parametrize("make", [dance, broken])
 def test_the_built_text_is_already_formatted(make) -> None:
-    from scriptc.fmt import format_text
+    from scriptc.formatter import format_text
 
     text = make().build().script_text
     assert format_text(text).text == text
@@ -409,7 +409,7 @@ def test_the_built_text_is_already_formatted(make) -> None:
 def test_generated_conditions_are_printed_in_the_formatters_layout() -> None:
     from hypothesis import HealthCheck, given, settings
 
-    from scriptc.fmt import format_text
+    from scriptc.formatter import format_text
 
     @settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow])
     @given(_condition_texts())

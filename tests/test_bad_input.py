@@ -6,7 +6,7 @@ from __future__ import annotations
 import pytest
 
 from scriptc.driver import analyze_script
-from scriptc.ir.lower import parse_condition
+from scriptc.frontend.script import parse_condition
 from scriptc.source import SourceFile
 
 HEAD = "[act]\n[goal:g]\n[action]\n"

@@ -20,9 +20,9 @@ from pathlib import Path
 import pytest
 
 from harness import CASES, expect, short_lines
-from scriptc.config import (ImplementationError, Resolver, Settings, build_settings,
+from scriptc.project.config import (ImplementationError, Resolver, Settings, build_settings,
                             find_config, load_config)
-from scriptc.config.tomlpos import locate
+from scriptc.project.config.tomlpos import locate
 from scriptc.diagnostics.model import Severity, diagnostic
 from scriptc.source import Span
 
@@ -201,7 +201,7 @@ def test_found_by_walking_up_and_scriptc_toml_wins(tmp_path: Path) -> None:
 def test_the_candidates_stop_at_the_nearest_configuration(tmp_path: Path) -> None:
     """What a watcher of one file's configuration must watch: both names in every folder
     from the file's up to the nearest configuration's, whether they exist or not."""
-    from scriptc.config.load import config_candidates
+    from scriptc.project.config.load import config_candidates
 
     deep = tmp_path / "a" / "b"
     deep.mkdir(parents=True)
@@ -251,7 +251,7 @@ def test_resolver_searches_each_folder_once(tmp_path: Path, monkeypatch) -> None
     (tmp_path / "scriptc.toml").write_text('[lint]\nignore = ["F003"]\n')
     (tmp_path / "sub").mkdir()
     (tmp_path / "sub" / "deeper").mkdir()
-    import scriptc.config.load as load
+    import scriptc.project.config.load as load
 
     calls = []
     real = load.config_in

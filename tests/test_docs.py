@@ -179,7 +179,7 @@ def test_every_file_the_documentation_names_exists() -> None:
 
 def test_a_missing_file_is_found(tmp_path: Path) -> None:
     document = tmp_path / "doc.md"
-    document.write_text("`src/scriptc/fmt.py`, `runtime/plot.py`, `examples/`, `songs/hello.wav`,\n"
+    document.write_text("`src/scriptc/formatter.py`, `runtime/plot.py`, `examples/`, `songs/hello.wav`,\n"
                         "`.github/workflows/scriptc.yml`, `tests/cases/fmt/NAME.script`, `a/b`,\n"
                         "`src/scriptc/fmt2.py` and `docs/gone/`\n```\n`src/in_code.py`\n```\n",
                         encoding="utf-8")

@@ -6,7 +6,7 @@ import pytest
 
 from scriptc.emit.condition import condition_text, quote
 from scriptc.ir import nodes as ir
-from scriptc.ir.lower import parse_condition
+from scriptc.frontend.script import parse_condition
 from scriptc.source import Span
 
 S = Span(0, 0)

@@ -11,8 +11,8 @@ import pytest
 
 from scriptc.emit.json import EmitError, emit_json, label_paths
 from scriptc.ir import nodes as ir
-from scriptc.ir.from_json import _validator
-from scriptc.ir.lower import lower_script
+from scriptc.frontend.thesis_json import _validator
+from scriptc.frontend.script import lower_script
 from scriptc.source import SourceFile, Span
 
 DATA = Path(__file__).parent / "data"

@@ -14,10 +14,10 @@ from hypothesis import strategies as st
 from scriptc.diagnostics.model import Severity
 from scriptc.emit.json import emit_json
 from scriptc.emit.script import format_block, format_script
-from scriptc.fmt import format_text
+from scriptc.formatter import format_text
 from scriptc.ir import nodes as ir
-from scriptc.ir.from_json import _validator, script_from_json
-from scriptc.ir.lower import lower_script
+from scriptc.frontend.thesis_json import _validator, script_from_json
+from scriptc.frontend.script import lower_script
 from scriptc.source import SourceFile, Span
 
 DATA = Path(__file__).parent / "data"

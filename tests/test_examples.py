@@ -258,7 +258,7 @@ def fenced(doc: str, info: str) -> list[str]:
 
 @pytest.mark.parametrize("doc", ["tutorial.md", "rules.md", "language.md"])
 def test_whole_scripts_in_the_guides_are_clean_and_formatted(doc: str, tmp_path: Path) -> None:
-    from scriptc.fmt import format_text
+    from scriptc.formatter import format_text
 
     scripts = [b for b in fenced(doc, "scriptc") if "[goal:" in b and "blk_terminus" in b]
     assert scripts, doc

@@ -1,4 +1,4 @@
-"""The formatter (`scriptc.fmt`): case files, the API the language server calls, refusals,
+"""The formatter (`scriptc.formatter`): case files, the API the language server calls, refusals,
 line endings and range formatting.
 
 Case files: `tests/cases/fmt/NAME.script` is the input, `NAME.fmt.script` beside it the exact
@@ -17,7 +17,7 @@ import pytest
 from harness import CASES, UPDATE
 from scriptc.driver import analyze_script
 from scriptc.emit.json import emit_json
-from scriptc.fmt import LINE_WIDTH, FormatResult, format_range, format_text
+from scriptc.formatter import LINE_WIDTH, FormatResult, format_range, format_text
 from scriptc.source import SourceFile
 
 FMT = CASES / "fmt"
@@ -217,8 +217,8 @@ def test_examples_in_docs_are_formatted() -> None:
 def test_a_formatter_bug_raises_instead_of_changing_meaning(monkeypatch) -> None:
     """The self-check: with spacing broken on purpose (`U F:` glued into `UF:`), the output
     would mean something else, so format_text raises rather than return it."""
-    import scriptc.emit.layout as layout
-    import scriptc.fmt as fmt
+    import scriptc.emit.printer as layout
+    import scriptc.formatter as fmt
 
     monkeypatch.setattr(layout, "_space", lambda *args: "")
     text = "[a]\n[goal:g]\n[action]\n[b##blk_jump: CND({VAR @v U F: now()} !) TRJMP() FLSJMP()]\n"

@@ -162,7 +162,7 @@ def test_real_process_pipes_bytes(tmp_path: Path) -> None:
 
 
 def test_a_formatter_bug_writes_nothing(tree: Path, monkeypatch) -> None:
-    import scriptc.emit.layout as layout
+    import scriptc.emit.printer as layout
 
     monkeypatch.setattr(layout, "_space", lambda *args: "")
     text = "[a]\n[goal:g]\n[action]\n[b##blk_jump: CND({VAR @v U F: now()} !) TRJMP() FLSJMP()]\n"

@@ -17,7 +17,7 @@ from hypothesis import strategies as st
 from scriptc.driver import analyze_script
 from scriptc.emit.json import emit_json
 from scriptc.emit.script import format_script
-from scriptc.fmt import LINE_WIDTH, format_range, format_text
+from scriptc.formatter import LINE_WIDTH, format_range, format_text
 from scriptc.source import SourceFile
 from scriptc.syntax.parser import parse_items
 from scriptc.syntax.scan import scan

@@ -12,11 +12,11 @@ import pytest
 
 from scriptc import bytecode
 from scriptc.driver import analyze_bytes, emit
-from scriptc.profile import DEFAULT_PROFILE, Profile
+from scriptc.robot.profile import DEFAULT_PROFILE, Profile
 from scriptc.resources import schema_path
 from scriptc.runtime.governor import Governor
 from scriptc.runtime.interp import IRProgram
-from scriptc.motion import Shaper
+from scriptc.robot.motion import Shaper
 from scriptc.runtime.robots import make_robot
 from scriptc.runtime.robots.kinematic import KinematicRobot
 from scriptc.runtime.session import Session
@@ -441,7 +441,7 @@ def test_a_block_with_room_is_ramped_around_its_changes_and_ends_where_the_scrip
         assert not trace.of_kind("governor") and session.governor.clamps == 0
         assert trace.of_kind("session_end")[0]["at_rest_ms"] == 2400
     gov, _ = governed()
-    from scriptc.runtime.values import Move
+    from scriptc.runtime.commands import Move
 
     gov.plan_block(0, [Move(0, 0, 0.8, 200, 1000), Move(0, 0, -0.8, 0, 1000)], 2400)
     gov.advance(400)
@@ -479,7 +479,7 @@ def test_a_hold_before_a_planned_ramp_keeps_the_robot_still() -> None:
 
 def test_a_child_in_the_way_of_a_planned_ramp_holds_it() -> None:
     gov, trace = governed()
-    from scriptc.runtime.values import Move
+    from scriptc.runtime.commands import Move
 
     gov.nearest = lambda t, pose: (0.3, 0.0)  # a child 30 cm straight ahead
     gov.plan_block(0, [Move(0.25, 0, 0, 1000, 1000)], 3000)
@@ -504,7 +504,7 @@ def test_a_child_who_comes_while_a_centred_ramp_anticipates_its_change_stops_it(
     reading at 950 sees a child 30 cm ahead: the plan is dropped and the robot ramps back at
     once, before the command it was anticipating."""
     gov, trace = governed()
-    from scriptc.runtime.values import Move
+    from scriptc.runtime.commands import Move
 
     gov.plan_block(0, [Move(0.25, 0, 0, 1000, 1000)], 3000)
     gov.advance(950)

@@ -22,7 +22,7 @@ import pytest
 from harness import CASES, expect
 from scriptc.diagnostics.model import TextEdit
 from scriptc.ide import actions, completion, hints, hover, navigation, outline, tokens
-from scriptc.ide.model import RenameError
+from scriptc.ide.answers import RenameError
 from scriptc.ide.snapshot import Snapshot
 from scriptc.source import Span
 

@@ -8,9 +8,9 @@ from __future__ import annotations
 import pytest
 from lsprotocol import types as lsp
 
-from scriptc.ide import model
+from scriptc.ide import answers
 from scriptc.ide.document import Document
-from scriptc.ide.layout import Layout
+from scriptc.ide.pads import Layout
 from scriptc.server import convert
 from scriptc.source import SourceFile, Span
 
@@ -146,7 +146,7 @@ def test_diagnostic_conversion():
 
 def test_semantic_tokens_cut_at_line_ends_and_count_units():
     source = SourceFile("x", "% 😀\nab %[a]")
-    tokens = [model.SemanticToken(Span(0, 8), "comment"), model.SemanticToken(Span(9, 10), "namespace")]
+    tokens = [answers.SemanticToken(Span(0, 8), "comment"), answers.SemanticToken(Span(9, 10), "namespace")]
     data = convert.semantic_tokens(convert.text_positions(source.text), tokens).value["data"]
     comment, namespace = convert._TYPE_INDEX["comment"], convert._TYPE_INDEX["namespace"]
     assert data == [0, 0, 4, comment, 0,   # `% 😀` is 4 units
@@ -156,7 +156,7 @@ def test_semantic_tokens_cut_at_line_ends_and_count_units():
 
 def test_completion_json():
     source = SourceFile("x", "[a] é")
-    items = [model.CompletionItem("goal:", "item", Span(5, 5), snippet="goal:${1:id}", insert_text="goal:")]
+    items = [answers.CompletionItem("goal:", "item", Span(5, 5), snippet="goal:${1:id}", insert_text="goal:")]
     with_snippets = convert.completion_list(convert.text_positions(source.text), items, True).value
     without = convert.completion_list(convert.text_positions(source.text), items, False).value
     assert with_snippets["items"][0]["textEdit"] == {
@@ -203,7 +203,7 @@ def test_diagnostics_are_pushed_unless_the_client_pulls_and_can_be_asked_to_agai
 def test_completion_documentation_follows_the_client_format() -> None:
     """Markdown for a client that reads it (`documentationFormat`), plain text otherwise."""
     p = convert.Positions(SourceFile("x.script", "[a]\n"))
-    item = model.CompletionItem(label="now", kind="function", span=Span(0, 0),
+    item = answers.CompletionItem(label="now", kind="function", span=Span(0, 0),
                                 documentation="The map's time in ms, as text.")
     as_markdown = convert.completion_list(p, [item], snippets=False, markdown=True)
     as_text = convert.completion_list(p, [item], snippets=False, markdown=False)

@@ -15,7 +15,7 @@ from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit
 from scriptc.driver import analyze_script
 from scriptc.ide.document import Document, canonical
 from scriptc.ide.incremental import Analyzer
-from scriptc.ide.layout import Layout
+from scriptc.ide.pads import Layout
 from scriptc.ide.shift import _SHIFTERS, shift
 from scriptc.ir import nodes
 from scriptc.source import SourceFile, Span

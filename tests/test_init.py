@@ -44,7 +44,7 @@ def test_the_scaffold_is_formatted(scaffold: Path) -> None:
 
 
 def test_the_configuration_is_valid_and_applies(scaffold: Path) -> None:
-    from scriptc.config import load_config
+    from scriptc.project.config import load_config
 
     loaded = load_config(str(scaffold / "scriptc.toml"))
     assert loaded.diagnostics == []
@@ -214,7 +214,7 @@ def test_the_local_hooks_run_in_pre_commit(scaffold: Path, tmp_path: Path) -> No
 
 def test_the_documented_workflow_is_the_one_init_writes() -> None:
     from scriptc.cli.init import workflow
-    from scriptc.provenance import PLACEHOLDER, Provenance
+    from scriptc.project.provenance import PLACEHOLDER, Provenance
 
     assert _fenced_yaml("`scriptc init` writes this workflow") == \
         workflow(Provenance("vcs", PLACEHOLDER))

@@ -113,7 +113,7 @@ def test_an_interrupted_session_keeps_every_instant_before_and_says_so() -> None
 
 def test_mujoco_steps_in_chunks_that_change_nothing_and_an_interruption_cuts() -> None:
     pytest.importorskip("mujoco")
-    from scriptc.profile import DEFAULT_PROFILE
+    from scriptc.robot.profile import DEFAULT_PROFILE
     from scriptc.runtime.robots import mujoco as backend
 
     # Governed moves (every change a ramp) of 7.5 s and 12.3 s: stepped in chunks, or each

@@ -1,4 +1,4 @@
-"""The positioned JSON parser (`scriptc.syntax.jsonpos`)."""
+"""The positioned JSON parser (`scriptc.frontend.jsonpos`)."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from scriptc.source import Span
-from scriptc.syntax.jsonpos import JsonError, parse_json, string_offsets
+from scriptc.frontend.jsonpos import JsonError, parse_json, string_offsets
 
 
 def test_values_and_spans() -> None:

@@ -1,4 +1,4 @@
-"""Reading thesis JSON into the IR (`scriptc.ir.from_json`): J001/J002/J003, spans into the
+"""Reading thesis JSON into the IR (`scriptc.frontend.thesis_json`): J001/J002/J003, spans into the
 JSON text, invented labels, and the fast schema check agreeing with jsonschema."""
 
 from __future__ import annotations
@@ -14,9 +14,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from scriptc.ir import nodes as ir
-from scriptc.ir.from_json import _fast_check, _validator, invented_label, script_from_json
+from scriptc.frontend.thesis_json import _fast_check, _validator, invented_label, script_from_json
 from scriptc.source import SourceFile, Span
-from scriptc.syntax.jsonpos import parse_json
+from scriptc.frontend.jsonpos import parse_json
 
 DATA = Path(__file__).parent / "data"
 
@@ -245,10 +245,10 @@ def test_numbers_keep_their_text() -> None:
 
 
 def test_jsonschema_is_imported_only_when_validating() -> None:
-    code = ("import sys, scriptc.ir.from_json, scriptc.syntax.jsonpos, scriptc.emit.json, "
+    code = ("import sys, scriptc.frontend.thesis_json, scriptc.frontend.jsonpos, scriptc.emit.json, "
             "scriptc.emit.script, scriptc.emit.condition\n"
             "assert 'jsonschema' not in sys.modules, 'jsonschema imported'\n"
-            "from scriptc.ir.from_json import script_from_json\n"
+            "from scriptc.frontend.thesis_json import script_from_json\n"
             "from scriptc.source import SourceFile\n"
             "script_from_json(SourceFile('x.json', '[]'))\n"
             "assert 'jsonschema' in sys.modules\n")
@@ -258,7 +258,7 @@ def test_jsonschema_is_imported_only_when_validating() -> None:
 @pytest.mark.parametrize("name", ["test_act.json", "script_gen_test_act.json", "dance_example.json"])
 def test_valid_thesis_files_skip_jsonschema(name: str) -> None:
     """The thesis's files are read without running jsonschema at all (the fast check says yes)."""
-    code = ("import sys\nfrom scriptc.ir.from_json import script_from_json\n"
+    code = ("import sys\nfrom scriptc.frontend.thesis_json import script_from_json\n"
             "from scriptc.source import SourceFile\n"
             f"text = open({str(DATA / name)!r}, encoding='utf-8').read()\n"
             "script, diagnostics = script_from_json(SourceFile('x.json', text))\n"

@@ -94,8 +94,8 @@ def _config_text(name: str) -> str:
 def test_a_function_name_the_configuration_accepts_runs(name: str) -> None:
     """What the configuration accepts (its schema, its checks, the settings built from it), the
     run time registers and a script calls: `wave-hands` passed lint and stopped `run`."""
-    from scriptc.config import build_settings
-    from scriptc.config.validate import check_config
+    from scriptc.project.config import build_settings
+    from scriptc.project.config.validate import check_config
     from scriptc.runtime.configured import implementations_for
     from scriptc.runtime.interp import IRProgram
     from scriptc.runtime.session import Session

@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 from hypothesis import given, settings as hsettings, strategies as st
 
-from scriptc.config import RuleSelection, Settings
+from scriptc.project.config import RuleSelection, Settings
 from scriptc.diagnostics.codes import all_codes
 # The scripts and helpers of the repository-wide lint tests: CLEAN, WARNS (F001, a warning),
 # FIXABLE (R007 with a safe fix, R003 with an unsafe one).

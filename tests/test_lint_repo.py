@@ -305,7 +305,7 @@ def test_configuration_problems_come_first_and_fail_the_run(project: Path) -> No
 
 
 def test_progress_bar_only_on_a_terminal_and_for_many_files(capsys) -> None:
-    from scriptc.cli._shell import Progress
+    from scriptc.cli.common import Progress
 
     quiet = Progress()
     assert not quiet.enabled  # pytest's stderr is not a terminal

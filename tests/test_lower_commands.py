@@ -1,4 +1,4 @@
-"""Lowering reads a well-formed command string in one match (`ir/lower.py`, `_WELL_FORMED`)
+"""Lowering reads a well-formed command string in one match (`frontend/script.py`, `_WELL_FORMED`)
 and any other by splitting it field by field: both ways give the same IR and diagnostics."""
 
 from __future__ import annotations
@@ -9,8 +9,8 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from scriptc.ir import lower
-from scriptc.ir.lower import lower_script
+from scriptc.frontend import script as lower
+from scriptc.frontend.script import lower_script
 from scriptc.source import SourceFile
 
 FAST = settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])

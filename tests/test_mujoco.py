@@ -13,7 +13,7 @@ from click.testing import CliRunner
 
 from scriptc.cli.main import cli
 from scriptc.driver import analyze_bytes
-from scriptc.profile import DEFAULT_PROFILE, Profile
+from scriptc.robot.profile import DEFAULT_PROFILE, Profile
 from scriptc.runtime.interp import IRProgram
 from scriptc.runtime.robots import RobotFailure, make_robot
 from scriptc.runtime.scenario import scenario_from_data

@@ -58,7 +58,7 @@ def test_mutations_never_raise(text: str, data) -> None:
 def test_compile_decompile_compile_is_identity(text: str) -> None:
     from scriptc.emit.json import emit_json
     from scriptc.emit.script import format_script
-    from scriptc.ir.from_json import script_from_json
+    from scriptc.frontend.thesis_json import script_from_json
 
     analysis = analyze_script(SourceFile("gen.script", text))
     if not analysis.ok:
@@ -78,7 +78,7 @@ def test_compile_decompile_compile_is_identity(text: str) -> None:
 def test_condition_text_round_trips(text: str) -> None:
     """The canonical `toparse` text of a condition parses to the same canonical text."""
     from scriptc.emit.condition import condition_text
-    from scriptc.ir.lower import parse_condition
+    from scriptc.frontend.script import parse_condition
 
     cond, problems = parse_condition(text)
     assert cond is not None, problems

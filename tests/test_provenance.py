@@ -1,4 +1,4 @@
-"""Where the running scriptc came from (`scriptc.provenance`, PEP 610 `direct_url.json`), the
+"""Where the running scriptc came from (`scriptc.project.provenance`, PEP 610 `direct_url.json`), the
 install line `scriptc init` writes into its CI workflow for each case, and the install commands
 of the messages that need an extra (`run --plot` without matplotlib)."""
 
@@ -17,7 +17,7 @@ from packaging.requirements import Requirement
 
 from scriptc.cli.init import WORKFLOW_PATH
 from scriptc.cli.main import cli
-from scriptc.provenance import PLACEHOLDER, extra_install_command, provenance
+from scriptc.project.provenance import PLACEHOLDER, extra_install_command, provenance
 
 COMMIT = "9f2c1e0d8b7a6f5e4d3c2b1a0f9e8d7c6b5a4f3e"
 

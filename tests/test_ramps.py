@@ -1,4 +1,4 @@
-"""The governor's centred ramps and K003 (scriptc/motion.py, check/ramps.py; docs/robot.md
+"""The governor's centred ramps and K003 (scriptc/robot/motion.py, check/ramps.py; docs/robot.md
 "Acceleration"): a ramp centred on a change covers exactly the step's distance on the 1 ms
 grid; a block's motions whose ramps fit are centred, the others late; and the law of K003: for
 random blocks within the profile, the governed run ends where the ideal robot does wherever
@@ -14,7 +14,7 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 from scriptc.driver import analyze_bytes
-from scriptc.motion import (
+from scriptc.robot.motion import (
     REST,
     Kinematics,
     Ramp,
@@ -27,7 +27,7 @@ from scriptc.motion import (
     run_block,
     track_steps,
 )
-from scriptc.profile import DEFAULT_PROFILE, Profile
+from scriptc.robot.profile import DEFAULT_PROFILE, Profile
 from scriptc.runtime.interp import IRProgram
 from scriptc.runtime.session import Session
 from scriptc.runtime.trace import Trace

@@ -13,7 +13,7 @@ from click.testing import CliRunner
 
 from scriptc.cli.main import cli
 from scriptc.driver import analyze_bytes, analyze_file
-from scriptc.ir.lower import lower_script
+from scriptc.frontend.script import lower_script
 from scriptc.runtime.bindings import Bindings
 from scriptc.runtime.evaluate import EvalContext, evaluate
 from scriptc.runtime.executor import End, Issue, SeekError
@@ -25,7 +25,7 @@ from scriptc.runtime.rules import STANDARD_RULES, RuleError, parse_condition_tex
 from scriptc.runtime.scenario import ScenarioError, load_scenario, scenario_from_data
 from scriptc.runtime.session import Session
 from scriptc.runtime.trace import Trace
-from scriptc.runtime.values import Instruction, Move, Position, compare, format_number
+from scriptc.runtime.commands import Instruction, Move, Position, compare, format_number
 from scriptc.runtime.world import UpdateError, World, parse_update
 from scriptc.source import SourceFile
 

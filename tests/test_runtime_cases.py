@@ -34,7 +34,7 @@ import pytest
 
 from harness import CASES, expect
 from scriptc.driver import analyze_file
-from scriptc.profile import DEFAULT_PROFILE
+from scriptc.robot.profile import DEFAULT_PROFILE
 from scriptc.runtime.interp import IRProgram
 from scriptc.runtime.scenario import load_scenario
 from scriptc.runtime.session import LoadError, Session

@@ -1,4 +1,4 @@
-"""The safety pass (check/safety.py: K001, K002) and the robot profile (scriptc/profile.py).
+"""The safety pass (check/safety.py: K001, K002) and the robot profile (scriptc/robot/profile.py).
 Case files: tests/cases/safety/."""
 
 from __future__ import annotations
@@ -8,9 +8,9 @@ import pytest
 from scriptc.check import check_script
 from scriptc.check.context import Context
 from scriptc.check.safety import check_safety
-from scriptc.config import RobotProfile, Settings
+from scriptc.project.config import RobotProfile, Settings
 from scriptc.driver import analyze_bytes
-from scriptc.profile import DEFAULT_PROFILE, Profile, profile_from_settings
+from scriptc.robot.profile import DEFAULT_PROFILE, Profile, profile_from_settings
 
 
 def block(mv: str = "", ld: str = "") -> str:

@@ -249,7 +249,7 @@ def test_a_spent_budget_still_reports(monkeypatch) -> None:
 def test_what_k002_lets_through_the_governor_never_holds(blocks) -> None:
     """Both count onsets in one-second windows the same way, and K002 follows every path the
     run could take: a script K002 accepts runs without a held LED onset."""
-    from scriptc.profile import DEFAULT_PROFILE
+    from scriptc.robot.profile import DEFAULT_PROFILE
     from scriptc.runtime.interp import IRProgram
     from scriptc.runtime.session import Session
     from scriptc.runtime.trace import Trace

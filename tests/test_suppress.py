@@ -9,7 +9,7 @@ import pytest
 
 from scriptc.driver import analyze_bytes, analyze_script, apply_fixes
 from scriptc.source import SourceFile
-from scriptc.suppress import find_suppressions
+from scriptc.analysis.suppress import find_suppressions
 from test_check_explanations import example_script
 
 HEAD = "[act]\n[goal:g]\n[action]\n"

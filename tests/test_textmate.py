@@ -15,7 +15,7 @@ import shutil
 import subprocess
 from pathlib import Path
 
-from scriptc.files import SCRIPT_SUFFIX
+from scriptc.project.files import SCRIPT_SUFFIX
 
 VSCODE = Path(__file__).parent.parent / "lsp" / "vscode"
 

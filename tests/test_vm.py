@@ -20,7 +20,7 @@ from scriptc.runtime.interp import IRProgram
 from scriptc.runtime.rules import parse_condition_text
 from scriptc.runtime.session import Session
 from scriptc.runtime.trace import Trace
-from scriptc.runtime.values import Position
+from scriptc.runtime.commands import Position
 from scriptc.runtime.vm import VMProgram, program_from_bytecode
 from scriptc.runtime.world import World, parse_update
 

@@ -308,7 +308,7 @@ def test_a_failed_plot_leaves_the_old_picture(here: Path) -> None:
 
 
 def test_cache_entries_that_cannot_be_written_leave_nothing_behind(here: Path) -> None:
-    from scriptc.cache import Cache
+    from scriptc.project.cache import Cache
 
     Cache(str(here / ".scriptc_cache"))._prepare()  # its tag and .gitignore, made here
     # Entries of a few hundred bytes against a limit of 100: they fail part way.

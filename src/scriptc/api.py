@@ -41,7 +41,7 @@ from scriptc.emit.condition import quote
 from scriptc.emit.script import format_script
 from scriptc.ir import nodes as ir
 from scriptc.ir.builtins import STANDARD, FunctionRegistry
-from scriptc.profile import Profile
+from scriptc.robot.profile import Profile
 from scriptc.source import SourceFile, Span
 
 __all__ = [
@@ -372,7 +372,7 @@ def build_text(text: str, path: str = "<generated>.script", *,
                functions: FunctionRegistry = STANDARD, profile: Profile | None = None) -> Built:
     """Analyse script text as `scriptc lint` does without configuration files: with the
     standard B/F/E functions and the default robot profile unless `functions` (a
-    `scriptc.ir.builtins.FunctionRegistry`) or `profile` (a `scriptc.profile.Profile`) say
+    `scriptc.ir.builtins.FunctionRegistry`) or `profile` (a `scriptc.robot.profile.Profile`) say
     otherwise."""
     from scriptc.driver import analyze_script
 

@@ -13,9 +13,9 @@ from typing import Any
 
 from scriptc import interrupt
 from scriptc.diagnostics.model import Diagnostic, has_errors
-from scriptc.analysis import finish
+from scriptc.analysis.finish import finish
 from scriptc.gcpause import gc_paused
-from scriptc.profile import profile_from_settings
+from scriptc.robot.profile import profile_from_settings
 from scriptc.ir.builtins import STANDARD, FunctionRegistry
 from scriptc.ir.nodes import Script
 from scriptc.paths import shown_path
@@ -27,7 +27,7 @@ from scriptc.writing import UTF8_BOM, WriteError, encode_like, write_file
 class Analysis:
     """A source, the script read from it (None when it could not be read at all) and every
     diagnostic about it, sorted by position. `suppressed` holds what the script's suppression
-    comments hid (`scriptc.suppress`; never an error)."""
+    comments hid (`scriptc.analysis.suppress`; never an error)."""
 
     source: SourceFile
     script: Script | None
@@ -49,7 +49,7 @@ def _finish(source: SourceFile, script: Script | None, front: list[Diagnostic],
 def analyze_script(source: SourceFile, functions: FunctionRegistry = STANDARD,
                    profile=None) -> Analysis:
     """Parse, lower and check script syntax."""
-    from scriptc.ir.lower import lower_script
+    from scriptc.frontend.script import lower_script
 
     with gc_paused():
         script, front = lower_script(source)
@@ -59,7 +59,7 @@ def analyze_script(source: SourceFile, functions: FunctionRegistry = STANDARD,
 def analyze_json(source: SourceFile, functions: FunctionRegistry = STANDARD,
                  profile=None) -> Analysis:
     """Read thesis JSON (schema, then IR) and run the same checks as for script syntax."""
-    from scriptc.ir.from_json import script_from_json
+    from scriptc.frontend.thesis_json import script_from_json
 
     with gc_paused():
         script, front = script_from_json(source)
@@ -260,7 +260,7 @@ def suggest_codes(query: str, limit: int = 3) -> list[str]:
 # Linting a repository: configuration, suppressions, the cache, workers, fixes
 #
 # `lint_paths` is what `scriptc lint` and `scriptc check` run. Per file: find its
-# configuration (`scriptc.config.Resolver`), look its result up in the cache (content +
+# configuration (`scriptc.project.config.Resolver`), look its result up in the cache (content +
 # configuration + scriptc), analyse the misses (in worker processes when there is enough work
 # to pay for them), then apply the configuration's policy (selection, per-file ignores,
 # severities). The cache holds what the analysis found, before the policy, so the policy is
@@ -272,7 +272,7 @@ def suggest_codes(query: str, limit: int = 3) -> list[str]:
 
 
 class LintOptions:
-    """How `lint_paths` runs. `cache_dir` None: `scriptc.cache.default_cache_dir()`; `jobs`
+    """How `lint_paths` runs. `cache_dir` None: `scriptc.project.cache.default_cache_dir()`; `jobs`
     None: one worker per available core; `progress(done, total)` is called as files finish.
     `fix` rewrites files with their fixes; `diff` computes the same fixes and writes nothing
     (each report's `fixed_text`); `unsafe_fixes` takes the unsafe fixes too; `selection` is
@@ -368,12 +368,12 @@ def discover(paths: list[str] | tuple[str, ...], kind: str = "script", *,
     read whatever its suffix; a folder contributes its `*.script` files (for `kind` "json":
     its `.json` files that are thesis scripts, `is_thesis_json`), recursively and sorted,
     skipping hidden files and folders, what .gitignore files ignore and what the
-    configuration excludes (`scriptc.files`); `-` (stdin) is kept; a file reached twice is
+    configuration excludes (`scriptc.project.files`); `-` (stdin) is kept; a file reached twice is
     read once. A path that does not exist and a folder that cannot be read are problems, each
     named, and the other paths go on. With `force_exclude` the configuration's `exclude`
     applies to files named on the command line too (for pre-commit, which names every
     changed file)."""
-    from scriptc.files import SCRIPT_SUFFIX, Walker
+    from scriptc.project.files import SCRIPT_SUFFIX, Walker
 
     walker = Walker(resolver.for_folder if resolver is not None else None,
                     suffix=".json" if kind == "json" else SCRIPT_SUFFIX,
@@ -591,12 +591,12 @@ def lint_paths(paths: list[str] | tuple[str, ...], kind: str = "script", *,
     rest and, with `options.fix`, the safe fixes applied (files rewritten atomically). A path
     that does not exist, a folder or a file that cannot be read is recorded in `problems`,
     and the others go on. Files are named by `scriptc.paths.shown_path`."""
-    from scriptc.config import Resolver
+    from scriptc.project.config import Resolver
 
     options = options or LintOptions()
     cache = None
     if options.cache:
-        from scriptc.cache import Cache, default_cache_dir
+        from scriptc.project.cache import Cache, default_cache_dir
 
         # The project's root is that of the first path's configuration (else here): the
         # same folder from wherever scriptc runs.
@@ -743,11 +743,11 @@ def settings_for(path: str, *, cache: bool = True):
     """The configuration of one file (`scriptc compile FILE`): its `Settings`, and a report of
     the configuration file's own problems (empty when it has none). `path` may be a file
     name that does not exist (`--stdin-filename`): its folder is searched."""
-    from scriptc.config import Resolver
+    from scriptc.project.config import Resolver
 
     store = None
     if cache:
-        from scriptc.cache import Cache, default_cache_dir
+        from scriptc.project.cache import Cache, default_cache_dir
 
         # The cache of the file's project, wherever scriptc runs (as `lint_paths`).
         store = Cache(default_cache_dir(path if path not in ("-", "<stdin>") else "."))

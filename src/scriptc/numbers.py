@@ -1,7 +1,7 @@
 """One number policy for every number scriptc reads from a file, and for every JSON it writes.
 
 Readers parse numbers in several places (the thesis JSON and scenarios through
-`scriptc.syntax.jsonpos`, the `jsonmsg` texts of map updates, the configuration's TOML, the
+`scriptc.frontend.jsonpos`, the `jsonmsg` texts of map updates, the configuration's TOML, the
 numbers of the script syntax), and Python lets each of them produce what the code after it
 cannot use: `NaN` and `Infinity` (Python's `json` reads them, tomllib reads `nan` and `inf`,
 and a JSON Schema's `"type": "number"` accepts them), `1e999`, which `float()` turns into

@@ -1,4 +1,4 @@
-"""Formatting over stdio, through the formatter's API (scriptc.fmt): the whole document as
+"""Formatting over stdio, through the formatter's API (scriptc.formatter): the whole document as
 one minimal edit, a range as the formatter's edits, nothing for a text that does not parse."""
 
 from __future__ import annotations
@@ -7,7 +7,7 @@ import pytest
 from lsprotocol import types as lsp
 
 from lsptest import Doc, apply_edits
-from scriptc.fmt import format_text
+from scriptc.formatter import format_text
 
 pytestmark = pytest.mark.asyncio(loop_scope="module")
 

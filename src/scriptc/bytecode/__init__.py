@@ -14,7 +14,7 @@ from scriptc.bytecode.decode import decode
 from scriptc.bytecode.disasm import disassemble
 from scriptc.bytecode.encode import encode
 from scriptc.bytecode.errors import BytecodeError, InvalidError, MalformedError
-from scriptc.bytecode.layout import FORMAT_VERSION, MAGIC
+from scriptc.bytecode.container import FORMAT_VERSION, MAGIC
 from scriptc.bytecode.program import Program
 from scriptc.bytecode.verify import load, verify
 

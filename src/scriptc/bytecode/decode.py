@@ -14,7 +14,7 @@ import zlib
 from itertools import accumulate
 from operator import add
 
-from scriptc.bytecode import layout as L
+from scriptc.bytecode import container as L
 from scriptc.bytecode.errors import MalformedError
 from scriptc.bytecode.program import Action, Block, CodeSpan, Goal, Message, Num, Program
 from scriptc.source import Span

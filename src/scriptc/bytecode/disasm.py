@@ -13,7 +13,7 @@ import json
 import re
 
 from scriptc.bytecode.code import instructions
-from scriptc.bytecode.layout import FORMAT_VERSION
+from scriptc.bytecode.container import FORMAT_VERSION
 from scriptc.bytecode.opcodes import BLOCK_KINDS, Opcode
 from scriptc.bytecode.program import Program
 

@@ -16,7 +16,7 @@ import re
 import sys
 from pathlib import Path
 
-from scriptc.bytecode import layout as L
+from scriptc.bytecode import container as L
 from scriptc.bytecode.opcodes import (
     BLOCK_KINDS,
     KINDS,

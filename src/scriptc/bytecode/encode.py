@@ -9,7 +9,7 @@ from __future__ import annotations
 import struct
 import zlib
 
-from scriptc.bytecode import layout as L
+from scriptc.bytecode import container as L
 from scriptc.bytecode.program import Num, Program
 
 __all__ = ["encode"]

@@ -20,7 +20,7 @@ produced before sorting:
                                             (`ramps.py`) against the robot profile
 
 Importing this package loads only the standard library, `scriptc.ir`/`scriptc.diagnostics`,
-`scriptc.profile` and `scriptc.motion` (difflib is imported when a suggestion is needed).
+`scriptc.robot.profile` and `scriptc.robot.motion` (difflib is imported when a suggestion is needed).
 """
 
 from __future__ import annotations
@@ -32,10 +32,10 @@ from scriptc.check.flow import check_flow
 from scriptc.check.labels import check_labels
 from scriptc.check.messages import check_messages
 from scriptc.check.safety import check_safety
-from scriptc.check.values import check_values
+from scriptc.check.ranges import check_values
 from scriptc.diagnostics.model import Diagnostic
 from scriptc.ir.builtins import STANDARD, FunctionRegistry
-from scriptc.profile import Profile
+from scriptc.robot.profile import Profile
 from scriptc.ir.nodes import Script
 from scriptc.source import SourceFile
 

@@ -13,7 +13,7 @@ from functools import cached_property
 
 from scriptc.diagnostics.model import Fix, TextEdit
 from scriptc.ir.builtins import STANDARD, FunctionRegistry
-from scriptc.profile import DEFAULT_PROFILE, Profile
+from scriptc.robot.profile import DEFAULT_PROFILE, Profile
 from scriptc.ir.nodes import Block, JumpBlock, Name, Script
 from scriptc.source import SourceFile, Span
 

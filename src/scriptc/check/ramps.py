@@ -1,6 +1,6 @@
 """K003 (pass 7, safety; docs/robot.md "Acceleration"): where the run-time governor's ramps
 change where the robot ends up, predicted before the run with the same code the run uses
-(`scriptc.motion`).
+(`scriptc.robot.motion`).
 
 The governor ramps every change of speed at the profile's acceleration. Within an instruction
 block the move track is known when the block is issued, so a motion (one group's velocity
@@ -35,7 +35,7 @@ from scriptc.check.context import Context
 from scriptc.check.flow import next_timed, successors
 from scriptc.diagnostics.model import Diagnostic, Label, diagnostic
 from scriptc.ir.nodes import InstructionBlock, MoveCommand, Number
-from scriptc.motion import (
+from scriptc.robot.motion import (
     GROUPS,
     REST,
     BlockRun,
@@ -50,7 +50,7 @@ from scriptc.motion import (
     run_block,
     track_steps,
 )
-from scriptc.profile import Profile
+from scriptc.robot.profile import Profile
 
 POSITION_TOLERANCE = 0.01  # m: a centimetre, where the robot ends up
 HEADING_TOLERANCE = math.radians(1.0)  # a degree, which way it faces

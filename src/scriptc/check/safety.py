@@ -1,4 +1,4 @@
-"""Pass 7, safety against the robot profile (docs/robot.md; `scriptc.profile`):
+"""Pass 7, safety against the robot profile (docs/robot.md; `scriptc.robot.profile`):
 
 - K001: a move command faster than the profile allows (planar speed |(v_x, v_y)| above
   `max_linear_speed`, or |v_theta| above `max_angular_speed`). A warning: the script is not
@@ -30,7 +30,7 @@ it).
   the script puts the robot.
 
 The profile is `ctx.profile`: the configuration's `[robot]` over the defaults when the driver
-passes one, else `scriptc.profile.DEFAULT_PROFILE`.
+passes one, else `scriptc.robot.profile.DEFAULT_PROFILE`.
 """
 
 from __future__ import annotations
@@ -45,7 +45,7 @@ from scriptc.check.ramps import check_ramps, number, whole_ms
 from scriptc.diagnostics.model import Diagnostic, Label, diagnostic
 from scriptc.gcpause import gc_paused
 from scriptc.ir.nodes import InstructionBlock, JumpBlock, LedCommand, Number, block_path
-from scriptc.profile import Profile
+from scriptc.robot.profile import Profile
 
 WINDOW_MS = 1000
 # Bounds of the K002 timeline: blocks that take no time visited per search for the next

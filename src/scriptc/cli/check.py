@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import click
 
-from scriptc.cli._shell import format_option, report_paths, stdin_name_option
+from scriptc.cli.common import format_option, report_paths, stdin_name_option
 
 
 @click.command("check")

@@ -16,8 +16,8 @@ import shutil
 
 import click
 
-from scriptc.cache import CACHE_DIR_NAME, CACHEDIR_TAG
-from scriptc.cli._shell import CliError, write
+from scriptc.project.cache import CACHE_DIR_NAME, CACHEDIR_TAG
+from scriptc.cli.common import CliError, write
 
 # Folders never searched for sub-projects' caches.
 _SKIPPED = frozenset({".git", ".hg", ".svn", ".venv", "node_modules", "__pycache__"})
@@ -76,7 +76,7 @@ def caches_below(path: str) -> list[str]:
 def command(ctx: click.Context, path: str, cache_dir: str | None) -> None:
     """Remove the cache folder of the project PATH is in (default: here), and the caches of
     sub-projects below PATH."""
-    from scriptc.cache import default_cache_dir
+    from scriptc.project.cache import default_cache_dir
     from scriptc.paths import shown_path
 
     main = cache_dir or default_cache_dir(path)

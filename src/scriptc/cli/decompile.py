@@ -11,7 +11,7 @@ from __future__ import annotations
 import click
 
 from scriptc import driver
-from scriptc.cli._shell import (check_output, load, refuse_overwriting_input, show,
+from scriptc.cli.common import (check_output, load, refuse_overwriting_input, show,
                                 stdin_name_option, write_output)
 
 

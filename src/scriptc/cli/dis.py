@@ -9,7 +9,7 @@ from __future__ import annotations
 import click
 
 from scriptc import driver
-from scriptc.cli._shell import CliError, read_stdin, write
+from scriptc.cli.common import CliError, read_stdin, write
 
 
 @click.command("dis")

@@ -10,7 +10,7 @@ import sys
 
 import click
 
-from scriptc.cli._shell import CliError, use_color, write, write_bytes
+from scriptc.cli.common import CliError, use_color, write, write_bytes
 
 
 @click.command("explain")

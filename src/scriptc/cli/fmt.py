@@ -1,5 +1,5 @@
 """`scriptc fmt PATH... [--check] [--diff] [--skip-invalid]`: rewrite scripts in the
-canonical layout (`scriptc.fmt`; the decisions are in docs/editors.md, "Formatting").
+canonical layout (`scriptc.formatter`; the decisions are in docs/editors.md, "Formatting").
 
 Files are rewritten in place, atomically, and only when they change; folders are searched for
 `*.script` files as `lint` does; `-` formats stdin to stdout. `--check` lists the files that
@@ -20,7 +20,7 @@ import re
 import click
 
 from scriptc import driver, writing
-from scriptc.cli._shell import read_stdin, show, stdin_name_option, write, write_bytes
+from scriptc.cli.common import read_stdin, show, stdin_name_option, write, write_bytes
 
 _LINES = re.compile(r"[^\r\n]*(?:\r\n|\r|\n)|[^\r\n]+$")
 
@@ -58,9 +58,9 @@ def command(ctx: click.Context, paths: tuple[str, ...], check: bool, show_diff: 
     Comments are kept where they were and the compiled JSON does not change. Files with
     syntax errors are never rewritten.
     """
-    from scriptc.fmt import format_text
+    from scriptc.formatter import format_text
 
-    from scriptc.config import Resolver
+    from scriptc.project.config import Resolver
     from scriptc.paths import shown_path
 
     # The same walk as `scriptc lint`: .gitignore and the configuration's exclusions; a path

@@ -8,7 +8,7 @@ created when missing. Existing files are never overwritten: each is named as ski
 repository it writes lints clean (tests/test_init.py holds that).
 
 The workflow installs the scriptc that runs `init`, as pip recorded where it came from
-(`scriptc.provenance`): a commit of a repository, a version of a package index. A scriptc that
+(`scriptc.project.provenance`): a commit of a repository, a version of a package index. A scriptc that
 no other machine can install (a local checkout) gets an install step that fails saying what to
 write, and `init` warns about it, rather than a line that installs something else.
 
@@ -23,8 +23,8 @@ from collections.abc import Callable
 
 import click
 
-from scriptc.cli._shell import CliError, write
-from scriptc.provenance import PLACEHOLDER, Provenance, provenance
+from scriptc.cli.common import CliError, write
+from scriptc.project.provenance import PLACEHOLDER, Provenance, provenance
 from scriptc.writing import WriteError, write_file
 
 CONFIG = """\

@@ -23,7 +23,7 @@ import os
 import click
 
 from scriptc import driver
-from scriptc.cli._shell import (CliError, check_output, lint_format_option, lint_report,
+from scriptc.cli.common import (CliError, check_output, lint_format_option, lint_report,
                                 report_paths, stdin_name_option)
 
 
@@ -33,7 +33,7 @@ def _selectors(option: str, *, ignoring: bool = False):
     suggested); `--ignore` may not name only errors, which are always reported."""
 
     def convert(_ctx: click.Context, _param: click.Parameter, values: tuple[str, ...]):
-        from scriptc.config.model import selected_codes
+        from scriptc.project.config.settings import selected_codes
         from scriptc.diagnostics.codes import REGISTRY
 
         selectors = []
@@ -149,7 +149,7 @@ def command(ctx: click.Context, paths: tuple[str, ...], format_: str, stdin_name
         _refuse_overwriting_scripts(output_file, paths)
     selection = None
     if select or extend_select or ignore:
-        from scriptc.config import RuleSelection
+        from scriptc.project.config import RuleSelection
 
         selection = RuleSelection(select or None, extend_select, ignore)
     options = driver.LintOptions(cache=not no_cache, cache_dir=cache_dir, jobs=jobs,

@@ -23,8 +23,8 @@ import os
 import click
 
 from scriptc import driver, interrupt
-from scriptc.profile import profile_from_settings
-from scriptc.cli._shell import CliError, check_output, load, show, write, write_bytes, write_output
+from scriptc.robot.profile import profile_from_settings
+from scriptc.cli.common import CliError, check_output, load, show, write, write_bytes, write_output
 
 DEFAULT_LIMIT_MS = 3_600_000
 
@@ -168,7 +168,7 @@ def command(ctx: click.Context, files: tuple[str, ...], world: str | None, until
         import importlib.util
 
         if importlib.util.find_spec("matplotlib") is None:
-            from scriptc.provenance import extra_install_command
+            from scriptc.project.provenance import extra_install_command
 
             raise CliError("--plot needs matplotlib, which is not installed here; install it "
                            "into scriptc's environment with\n  "

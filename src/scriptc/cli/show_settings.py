@@ -1,6 +1,6 @@
 """`scriptc show-settings PATH [--json]`: the configuration a file (or folder) gets, as
 `scriptc lint` applies it, and where each setting comes from: the configuration file and the
-line of its key, or the default (`scriptc.config.describe`).
+line of its key, or the default (`scriptc.project.config.describe`).
 
 The text form is TOML (it could be pasted into a `scriptc.toml`) with the origin of each value
 as a comment, then what the policy does to the codes; `--json` gives the same as one object.
@@ -17,7 +17,7 @@ import re
 
 import click
 
-from scriptc.cli._shell import CliError, write, write_bytes
+from scriptc.cli.common import CliError, write, write_bytes
 
 _BARE_KEY = re.compile(r"[A-Za-z0-9_-]+")
 
@@ -118,8 +118,8 @@ def command(ctx: click.Context, path: str, as_json: bool, config: str | None,
             isolated: bool) -> None:
     """Show the configuration PATH gets and where each setting comes from (a configuration
     file and line, or the default)."""
-    from scriptc.cli._shell import show
-    from scriptc.config.describe import describe
+    from scriptc.cli.common import show
+    from scriptc.project.config.describe import describe
     from scriptc.driver import FileReport, configuration_failed
 
     if config and isolated:

@@ -15,8 +15,8 @@ import sys
 import time
 from collections.abc import Callable
 
-from scriptc.cache import CACHE_DIR_NAME
-from scriptc.cli._shell import CliError, write
+from scriptc.project.cache import CACHE_DIR_NAME
+from scriptc.cli.common import CliError, write
 
 # Besides scripts, the files whose change changes what lint reports.
 WATCHED_NAMES = frozenset({"scriptc.toml", "pyproject.toml", ".gitignore"})
@@ -44,7 +44,7 @@ class Watched:
     cache, `.git`) or a hidden file (the temporary file of an atomic write)."""
 
     def __init__(self, paths: tuple[str, ...]) -> None:
-        from scriptc.config import find_config
+        from scriptc.project.config import find_config
 
         self.folders = {os.path.abspath(p) for p in paths if os.path.isdir(p)}
         self.files = frozenset(os.path.abspath(p) for p in paths if not os.path.isdir(p))

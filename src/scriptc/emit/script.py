@@ -1,7 +1,7 @@
 """IR -> the canonical script syntax (docs/language.md): what `scriptc decompile` writes and
 what the Python API returns for a script built in code.
 
-One item per line, laid out by the canonical layout (`scriptc.emit.layout`, the formatter's
+One item per line, laid out by the canonical layout (`scriptc.emit.printer`, the formatter's
 own): `[action]` indented two spaces under its goal, blocks four, the formatter's spacing, and
 an item wider than the line width wrapped as the formatter wraps it. So `scriptc fmt --check`
 has nothing to say about a printed script. No blank lines and no comments (the IR has none).
@@ -24,7 +24,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from scriptc.emit.condition import condition_text, quote
-from scriptc.emit.layout import (
+from scriptc.emit.printer import (
     ACTION_INDENT,
     BLOCK_INDENT,
     GOAL_INDENT,

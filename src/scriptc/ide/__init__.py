@@ -14,7 +14,7 @@ translates). The modules, in the order a document flows through them:
 - `model`        the dataclasses features return (`Hover`, `CompletionItem`, `Symbol`...)
 - `hover`, `completion`, `navigation` (definition, references, rename), `outline` (symbols
   and folding), `tokens` (semantic tokens), `actions` (quick fixes), `hints` (inlay hints),
-  `formatting` (through `scriptc.fmt`): one feature each, functions of a snapshot and an
+  `formatting` (through `scriptc.formatter`): one feature each, functions of a snapshot and an
   offset returning plain data.
 
 Offsets given to and returned by the feature functions are the snapshot's (its `text`);

@@ -9,7 +9,7 @@ safe fixes (`Fix.safe`) are marked preferred, so an editor may apply them at onc
 from __future__ import annotations
 
 from scriptc.diagnostics.model import TextEdit
-from scriptc.ide.model import CodeAction
+from scriptc.ide.answers import CodeAction
 from scriptc.ide.snapshot import Snapshot
 from scriptc.source import Span
 

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import re
 
-from scriptc.ide.model import CompletionItem
+from scriptc.ide.answers import CompletionItem
 from scriptc.ide.snapshot import Snapshot
 from scriptc.ir.builtins import CLASSES, OPERATORS, SCOPES, field_of
 from scriptc.ir.nodes import InstructionBlock, JumpBlock, SensorBlock, TerminusBlock

@@ -1,6 +1,6 @@
-"""Formatting through the formatter's API (`scriptc.fmt`), as minimal text edits.
+"""Formatting through the formatter's API (`scriptc.formatter`), as minimal text edits.
 
-`scriptc.fmt.format_text(text)` returns the formatted text (None when the text cannot be
+`scriptc.formatter.format_text(text)` returns the formatted text (None when the text cannot be
 formatted, e.g. it has syntax errors, with the reason in its diagnostics); the edit sent
 back replaces only the part between the common prefix and the common suffix of the two
 texts, so an editor keeps the cursor and the undo history tidy. `format_range` returns the
@@ -19,7 +19,7 @@ def available() -> bool:
     """True when the formatter is installed in this tree (it is developed alongside)."""
     import importlib.util
 
-    return importlib.util.find_spec("scriptc.fmt") is not None
+    return importlib.util.find_spec("scriptc.formatter") is not None
 
 
 def minimal_edit(old: str, new: str) -> list[TextEdit]:
@@ -38,7 +38,7 @@ def minimal_edit(old: str, new: str) -> list[TextEdit]:
 
 def format_document(text: str) -> list[TextEdit] | None:
     """The edits formatting the whole text; None when it cannot be formatted."""
-    from scriptc.fmt import format_text
+    from scriptc.formatter import format_text
 
     result = format_text(text)
     if result.text is None:
@@ -47,6 +47,6 @@ def format_document(text: str) -> list[TextEdit] | None:
 
 
 def format_range(text: str, start: int, end: int) -> list[TextEdit]:
-    from scriptc.fmt import format_range as fmt_range
+    from scriptc.formatter import format_range as fmt_range
 
     return [TextEdit(Span(s, e), new) for s, e, new in fmt_range(text, start, end)]

@@ -3,7 +3,7 @@ jump to its label becomes) and, for an instruction block, how long it takes."""
 
 from __future__ import annotations
 
-from scriptc.ide.model import InlayHint
+from scriptc.ide.answers import InlayHint
 from scriptc.ide.snapshot import Snapshot
 from scriptc.ir.nodes import InstructionBlock
 from scriptc.source import Span

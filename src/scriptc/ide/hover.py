@@ -16,7 +16,7 @@ from __future__ import annotations
 import re
 
 from scriptc.ide.index import BlockInfo, Occurrence, track_time
-from scriptc.ide.model import Hover
+from scriptc.ide.answers import Hover
 from scriptc.ide.snapshot import Snapshot
 from scriptc.ir.builtins import CLASSES, OPERATORS, SCOPES, field_of
 from scriptc.ir.nodes import (

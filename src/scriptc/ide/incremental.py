@@ -4,7 +4,7 @@ The front end already works item by item (`scriptc.syntax.parser.parse_items` sc
 into `[...]` items and parses each one alone), which is what makes this cheap. Per analysis:
 
 1. **Follow the edits** on the analysis text (the document's text with pads of spaces after
-   edited items, `scriptc.ide.layout`): typing inside an item takes its length from the pad
+   edited items, `scriptc.ide.pads`): typing inside an item takes its length from the pad
    after the item, so no other item moves.
 2. **Scan**: after an edit inside one item, only that item is scanned again and spliced into
    the previous scan (the scanner carries no state between items); otherwise the whole text
@@ -29,7 +29,7 @@ gives the figures over stdio).
 The result is by construction what `scriptc.driver.analyze_script` gives for the same text:
 the same `parse_items` (given the spliced scan and a parser that answers from the cache of
 item texts) and the same `Lowerer.script` run, with the two per-item methods of the lowerer
-(`block`, `rule_message`) answered from the cache, then the same `scriptc.analysis.finish`.
+(`block`, `rule_message`) answered from the cache, then the same `scriptc.analysis.finish.finish`.
 `tests/test_ide_incremental.py` checks the equality with `analyze_script` (and of the spliced
 scan with a whole scan) over random edits.
 """
@@ -40,12 +40,12 @@ import bisect
 import logging
 from dataclasses import dataclass, field
 
-from scriptc.analysis import finish
+from scriptc.analysis.finish import finish
 from scriptc.diagnostics.model import Diagnostic
 from scriptc.gcpause import gc_paused
-from scriptc.ide.layout import IDENTITY, Layout
+from scriptc.ide.pads import IDENTITY, Layout
 from scriptc.ide.shift import shift
-from scriptc.ir import lower as _lower
+from scriptc.frontend import script as _lower
 from scriptc.ir.builtins import STANDARD, FunctionRegistry
 from scriptc.ir.nodes import Script
 from scriptc.source import SourceFile, Span
@@ -77,7 +77,7 @@ class Result:
     """One analysis: what the driver's `Analysis` holds, plus the scan and the parsed items
     that editor features read (item boundaries, comments, broken items). Offsets are those of
     `source.text`, the analysis text; `layout` converts them to offsets of `real`, the
-    document's text (see scriptc.ide.layout)."""
+    document's text (see scriptc.ide.pads)."""
 
     source: SourceFile
     scan: Scan
@@ -196,7 +196,7 @@ class _CachingLowerer(_lower.Lowerer):
         return hit[0]
 
 
-# The pads (see scriptc.ide.layout): every closed item gets INITIAL_PAD spaces when the
+# The pads (see scriptc.ide.pads): every closed item gets INITIAL_PAD spaces when the
 # analysis text is made from the document's text, and an item whose pad runs out gets SLACK
 # (a line's worth of typing before the items after it move again). A pad longer than MAX_PAD
 # (after a large deletion) makes the analyser start again from the document's text.
@@ -208,7 +208,7 @@ MAX_PAD = 4096
 class Analyzer:
     """The analysis of one document as it changes. `analyze(text, edits=...)` gives the same
     result as `scriptc.driver.analyze_script` for that text (in the offsets of the analysis
-    text: see `scriptc.ide.layout`), reusing what it can of the previous call. Not
+    text: see `scriptc.ide.pads`), reusing what it can of the previous call. Not
     thread-safe: one analyzer per document, used from one thread."""
 
     def __init__(self, functions: FunctionRegistry = STANDARD, *, slack: bool = False,

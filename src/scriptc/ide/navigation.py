@@ -19,7 +19,7 @@ import re
 
 from scriptc.diagnostics.model import TextEdit
 from scriptc.ide.index import Occurrence
-from scriptc.ide.model import RenameError
+from scriptc.ide.answers import RenameError
 from scriptc.ide.snapshot import Snapshot
 from scriptc.ir.nodes import ClassAssignment, JumpBlock
 from scriptc.source import Span

@@ -5,7 +5,7 @@ A `Snapshot` holds the text, the scan (items and comments), the parsed items, th
 report them, and builds its `index` (what is where) on first use.
 
 Its offsets are those of its `text`, the analysis text, which may hold pads of spaces after
-edited items (scriptc.ide.layout); `layout` converts them to offsets of the document's text
+edited items (scriptc.ide.pads); `layout` converts them to offsets of the document's text
 (`real_source`). Features work in the snapshot's offsets only.
 """
 
@@ -16,7 +16,7 @@ from functools import cached_property
 
 from scriptc.diagnostics.model import Diagnostic, has_errors
 from scriptc.ide.incremental import Result, Stats
-from scriptc.ide.layout import Layout
+from scriptc.ide.pads import Layout
 from scriptc.ir.builtins import STANDARD, FunctionRegistry
 from scriptc.ir.nodes import Script
 from scriptc.source import SourceFile, Span

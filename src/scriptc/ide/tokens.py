@@ -16,7 +16,7 @@ from __future__ import annotations
 import re
 from functools import lru_cache
 
-from scriptc.ide.model import SemanticToken
+from scriptc.ide.answers import SemanticToken
 from scriptc.ide.snapshot import Snapshot
 from scriptc.ir.builtins import STANDARD
 from scriptc.source import Span

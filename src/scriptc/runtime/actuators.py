@@ -33,7 +33,7 @@ from __future__ import annotations
 
 from scriptc.runtime.clock import PRIO_OPERATOR_TIMER, PRIO_TRACK, EventQueue
 from scriptc.runtime.trace import Trace
-from scriptc.runtime.values import SILENCE, TRACKS, Audio, Instruction, Led, Move
+from scriptc.runtime.commands import SILENCE, TRACKS, Audio, Instruction, Led, Move
 from scriptc.runtime.world import World
 
 ZERO = (0.0, 0.0, 0.0)

@@ -15,7 +15,7 @@ session is about to start, and never on the lint path.
 
 from __future__ import annotations
 
-from scriptc.config.model import ImplementationError, Settings, import_implementation
+from scriptc.project.config.settings import ImplementationError, Settings, import_implementation
 from scriptc.runtime.functions import STANDARD_IMPLEMENTATIONS, Implementations
 from scriptc.runtime.rules import STANDARD_RULES, RuleLibrary
 

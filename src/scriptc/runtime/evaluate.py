@@ -37,7 +37,7 @@ from dataclasses import dataclass, field
 from scriptc.ir import nodes as ir
 from scriptc.runtime.bindings import Bindings
 from scriptc.runtime.functions import CallContext, FunctionError, Implementations
-from scriptc.runtime.values import Value, compare_op
+from scriptc.runtime.commands import Value, compare_op
 from scriptc.runtime.world import Entity, World
 
 

@@ -34,7 +34,7 @@ from dataclasses import dataclass
 from typing import Protocol, Union
 
 from scriptc.runtime.evaluate import EvalContext, Evaluation
-from scriptc.runtime.values import Instruction, Position, RuleMessage
+from scriptc.runtime.commands import Instruction, Position, RuleMessage
 
 
 @dataclass(frozen=True, slots=True)

@@ -26,7 +26,7 @@ from typing import Any
 
 from scriptc.ir.builtins import STANDARD_FUNCTIONS, Function, FunctionRegistry, Param
 from scriptc.language import name_problem
-from scriptc.runtime.values import Value, as_number, compare, to_text
+from scriptc.runtime.commands import Value, as_number, compare, to_text
 from scriptc.runtime.world import Entity, World
 
 KINDS = ("B", "F", "E")

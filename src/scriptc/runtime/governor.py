@@ -39,8 +39,8 @@ from __future__ import annotations
 import math
 from collections import deque
 
-from scriptc.motion import ZERO, Shaper, limit_speed, rates_of, track_steps
-from scriptc.profile import DEFAULT_PROFILE, Profile
+from scriptc.robot.motion import ZERO, Shaper, limit_speed, rates_of, track_steps
+from scriptc.robot.profile import DEFAULT_PROFILE, Profile
 from scriptc.runtime.clock import PRIO_UPDATE
 from scriptc.runtime.robots import Pose
 
@@ -71,7 +71,7 @@ class Governor:
         self.rates = rates_of(p)
         self.commanded = ZERO  # the last command (script or operator)
         # What the wheels get: the velocity the limits allow, ramped late or centred on the
-        # changes of a block's plan (scriptc/motion.py).
+        # changes of a block's plan (scriptc/robot/motion.py).
         self.shaper = Shaper(self.rates)
         self.clamps = 0
         self.reasons: dict[str, int] = {}  # clamps by reason, in the order first met

@@ -26,7 +26,7 @@ IDLE_TEXT = """\
 @cache
 def idle_program():
     """The built-in idle program (an `IRProgram`; its path is empty)."""
-    from scriptc.ir.lower import lower_script
+    from scriptc.frontend.script import lower_script
     from scriptc.runtime.interp import IRProgram
     from scriptc.source import SourceFile
 

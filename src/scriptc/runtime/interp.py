@@ -22,7 +22,7 @@ from scriptc.ir import nodes as ir
 from scriptc.runtime.bindings import READER
 from scriptc.runtime.evaluate import EvalContext, evaluate
 from scriptc.runtime.executor import End, ExecutorBase, Issue, ReadLimit, ReadResult, ReadSink
-from scriptc.runtime.values import Audio, Instruction, Led, Move, Position, RuleMessage
+from scriptc.runtime.commands import Audio, Instruction, Led, Move, Position, RuleMessage
 
 MAX_BLOCKS_PER_READ = 100_000
 

@@ -43,7 +43,7 @@ from dataclasses import dataclass
 
 from scriptc.ir import nodes as ir
 from scriptc.numbers import whole_number
-from scriptc.runtime.values import Instruction, RuleMessage
+from scriptc.runtime.commands import Instruction, RuleMessage
 
 
 class RuleError(ValueError):
@@ -52,7 +52,7 @@ class RuleError(ValueError):
 
 def parse_condition_text(text: str) -> ir.Condition:
     """A rule-grammar condition from text; raises RuleError with the first problem."""
-    from scriptc.ir.lower import parse_condition
+    from scriptc.frontend.script import parse_condition
 
     condition, problems = parse_condition(text)
     errors = [d for d in problems if d.severity.value == "error"]

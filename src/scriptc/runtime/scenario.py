@@ -12,7 +12,7 @@ A scenario is JSON (`schemas/scenario.schema.json`):
 `updates` are MapUpdate messages as the thesis's Wizard-of-Oz sensors would send them (thesis
 4.5, tables 4.1/4.2); `jsonmsg` is the message's text or the JSON value itself. `operator` are
 the joystick's events (thesis 5.3). A file is read whole and checked before the run starts,
-as every JSON file of scriptc is read: `scriptc.syntax.jsonpos` (strict JSON, the number policy
+as every JSON file of scriptc is read: `scriptc.frontend.jsonpos` (strict JSON, the number policy
 of `scriptc.numbers`, at most MAX_DEPTH levels deep), then the shape and the declared ranges by
 the JSON Schema (jsonschema is imported only here, only when a scenario is given), then every
 update against the map's tables. Every problem is reported at once, each with its line and
@@ -31,7 +31,7 @@ from typing import Any
 
 from scriptc.runtime.world import JSONMSG_DEPTH, MapUpdate, UpdateError, parse_update
 from scriptc.source import SourceFile, Span
-from scriptc.syntax.jsonpos import JsonError, JsonNode, Member, parse_json, string_offsets
+from scriptc.frontend.jsonpos import JsonError, JsonNode, Member, parse_json, string_offsets
 
 SCHEMA_NAME = "scenario.schema.json"
 

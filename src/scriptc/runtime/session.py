@@ -60,7 +60,7 @@ from scriptc.runtime.rules import (
 )
 from scriptc.runtime.scenario import OperatorEvent, Scenario, TimedUpdate
 from scriptc.runtime.trace import Trace
-from scriptc.runtime.values import Position, RuleMessage
+from scriptc.runtime.commands import Position, RuleMessage
 from scriptc.runtime.world import MapUpdate, UpdateError, World, parse_update
 
 # Loops at one instant before the session gives up: a cycle of jumps and blocks that take no

@@ -54,7 +54,7 @@ from scriptc.bytecode.program import Program as Bytecode
 from scriptc.runtime.bindings import READER
 from scriptc.runtime.evaluate import EvalContext
 from scriptc.runtime.executor import End, ExecutorBase, Issue, ReadLimit, ReadResult, ReadSink
-from scriptc.runtime.values import Audio, Instruction, Led, Move, Position, RuleMessage, compare_op
+from scriptc.runtime.commands import Audio, Instruction, Led, Move, Position, RuleMessage, compare_op
 from scriptc.runtime.world import Entity
 
 __all__ = ["VMProgram", "VMExecutor", "VMTrap", "program_from_bytecode"]

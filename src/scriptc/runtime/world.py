@@ -33,9 +33,9 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from scriptc.numbers import number_problem, whole_number
-from scriptc.runtime.values import Instruction, to_text
+from scriptc.runtime.commands import Instruction, to_text
 from scriptc.source import Span
-from scriptc.syntax.jsonpos import JsonError, JsonNode, parse_json
+from scriptc.frontend.jsonpos import JsonError, JsonNode, parse_json
 
 _WHOLE = re.compile(r"[+-]?[0-9]+")
 
@@ -204,7 +204,7 @@ def split_objectid(objectid: str) -> tuple[str, str]:
 
 def parse_update(objectid: str, attributename: str, policy: str, jsonmsg: Any) -> MapUpdate:
     """A MapUpdate checked against tables 4.1/4.2. `jsonmsg` is the message's text (JSON text
-    for the record attributes, read as every JSON of scriptc is: `scriptc.syntax.jsonpos`,
+    for the record attributes, read as every JSON of scriptc is: `scriptc.frontend.jsonpos`,
     the number policy, at most JSONMSG_DEPTH levels deep) or an already-parsed JSON value.
     Raises UpdateError."""
     cls, ident = split_objectid(objectid)

@@ -29,8 +29,8 @@ from lsprotocol import types as lsp
 
 from scriptc.diagnostics.codes import explanation_uri
 from scriptc.diagnostics.model import Diagnostic, Severity, TextEdit
-from scriptc.ide import model
-from scriptc.ide.layout import IDENTITY, Layout
+from scriptc.ide import answers
+from scriptc.ide.pads import IDENTITY, Layout
 from scriptc.ide.tokens import MODIFIERS, TYPES
 from scriptc.source import SourceFile, Span
 
@@ -112,7 +112,7 @@ def _width(ch: str, encoding: str) -> int:
 
 class Positions:
     """Offsets <-> protocol positions for one document, counted in one position encoding.
-    Offsets are those of a snapshot (its analysis text, see `scriptc.ide.layout`), converted
+    Offsets are those of a snapshot (its analysis text, see `scriptc.ide.pads`), converted
     through `layout` to offsets of the document's text, whose lines and columns the protocol
     counts. Lines of ASCII text (the usual case) need no counting: in every encoding, their
     column is the distance from the line's start."""
@@ -278,7 +278,7 @@ def workspace_edit(p: Positions, uri: str, edits) -> lsp.WorkspaceEdit:
 # -- features ---------------------------------------------------------------------------------------
 
 
-def hover(p: Positions, h: model.Hover | None) -> lsp.Hover | None:
+def hover(p: Positions, h: answers.Hover | None) -> lsp.Hover | None:
     if h is None:
         return None
     return lsp.Hover(lsp.MarkupContent(lsp.MarkupKind.Markdown, h.markdown), p.range(h.span))
@@ -289,7 +289,7 @@ def _json_range(r: lsp.Range) -> dict:
             "end": {"line": r.end.line, "character": r.end.character}}
 
 
-def completion_list(p: Positions, items: list[model.CompletionItem], snippets: bool,
+def completion_list(p: Positions, items: list[answers.CompletionItem], snippets: bool,
                     markdown: bool = True) -> Json:
     """A CompletionList, in JSON form (a large script has hundreds of labels to propose).
     Documentation is markdown when the client says it reads markdown, else plain text."""
@@ -323,9 +323,9 @@ def locations(p: Positions, uri: str, spans: list[Span]) -> list[lsp.Location]:
     return [lsp.Location(uri, p.range(s)) for s in spans]
 
 
-def document_symbols(p: Positions, symbols: list[model.Symbol]) -> list[lsp.DocumentSymbol]:
+def document_symbols(p: Positions, symbols: list[answers.Symbol]) -> list[lsp.DocumentSymbol]:
 
-    def one(s: model.Symbol) -> lsp.DocumentSymbol:
+    def one(s: answers.Symbol) -> lsp.DocumentSymbol:
         return lsp.DocumentSymbol(
             name=s.name or "?",
             kind=_SYMBOL_KIND.get(s.kind, lsp.SymbolKind.Object),
@@ -338,7 +338,7 @@ def document_symbols(p: Positions, symbols: list[model.Symbol]) -> list[lsp.Docu
     return [one(s) for s in symbols]
 
 
-def folding_ranges(p: Positions, folds: list[model.Fold]) -> list[lsp.FoldingRange]:
+def folding_ranges(p: Positions, folds: list[answers.Fold]) -> list[lsp.FoldingRange]:
     out = []
     seen: set[int] = set()
     for f in folds:
@@ -351,7 +351,7 @@ def folding_ranges(p: Positions, folds: list[model.Fold]) -> list[lsp.FoldingRan
     return out
 
 
-def semantic_tokens(p: Positions, tokens: list[model.SemanticToken]) -> Json:
+def semantic_tokens(p: Positions, tokens: list[answers.SemanticToken]) -> Json:
     """The protocol's relative encoding: per token, the line delta, the start delta (in the
     position encoding's units, from the previous token on the same line), the length, the
     type and the modifier bits.
@@ -412,7 +412,7 @@ _CODE_ACTION_KIND = {"quickfix": lsp.CodeActionKind.QuickFix,
                      "source.fixAll": lsp.CodeActionKind.SourceFixAll}
 
 
-def code_actions(p: Positions, uri: str, actions: list[model.CodeAction]) -> list[lsp.CodeAction]:
+def code_actions(p: Positions, uri: str, actions: list[answers.CodeAction]) -> list[lsp.CodeAction]:
     return [lsp.CodeAction(
         title=a.title,
         kind=_CODE_ACTION_KIND.get(a.kind, a.kind),
@@ -422,7 +422,7 @@ def code_actions(p: Positions, uri: str, actions: list[model.CodeAction]) -> lis
     ) for a in actions]
 
 
-def inlay_hints(p: Positions, hints: list[model.InlayHint]) -> list[lsp.InlayHint]:
+def inlay_hints(p: Positions, hints: list[answers.InlayHint]) -> list[lsp.InlayHint]:
     return [lsp.InlayHint(position=p.position(h.offset), label=h.label, padding_left=True,
                           tooltip=h.tooltip or None) for h in hints]
 

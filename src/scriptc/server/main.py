@@ -61,8 +61,8 @@ from pygls.protocol.json_rpc import JsonRPCResponseMessage
 from scriptc import __version__
 from scriptc.ide import actions, completion, formatting, hints, hover, navigation, outline, tokens
 from scriptc.ide.document import Document
-from scriptc.config.load import CONFIG_FILES
-from scriptc.ide.model import RenameError
+from scriptc.project.config.load import CONFIG_FILES
+from scriptc.ide.answers import RenameError
 from scriptc.server import convert
 
 log = logging.getLogger("scriptc.server")
@@ -196,7 +196,7 @@ class ScriptcServer(LanguageServer):
         """The document with its repository's configuration (`_configured`), noting what
         its configuration files looked like first (`watch_configuration`)."""
         if self._poll is not None and uri.startswith("file:"):
-            from scriptc.config.load import config_candidates
+            from scriptc.project.config.load import config_candidates
 
             self._stamps[uri] = {path: _stamp(path) for path in config_candidates(_path(uri))}
         return _configured(uri, text, version)
@@ -398,7 +398,7 @@ def _configured(uri: str, text: str, version: int | None) -> Document:
     for report in reports:
         for d in report.diagnostics:
             log.warning("%s: %s[%s] %s", report.path, d.severity.value, d.code, d.message)
-    from scriptc.profile import profile_from_settings
+    from scriptc.robot.profile import profile_from_settings
 
     return Document(uri, text, version, path=path, functions=settings.registry,
                     policy=lambda diagnostics: settings.apply(diagnostics, path),

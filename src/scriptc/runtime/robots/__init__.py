@@ -21,7 +21,7 @@ from __future__ import annotations
 import importlib
 from typing import Protocol
 
-from scriptc.motion import Pose, Ramp, Velocity
+from scriptc.robot.motion import Pose, Ramp, Velocity
 
 __all__ = ["ROBOTS", "Pose", "Ramp", "Robot", "RobotFailure", "UnknownRobot", "Velocity",
            "make_robot"]

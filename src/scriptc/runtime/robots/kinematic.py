@@ -1,6 +1,6 @@
 """The kinematic robot: an ideal holonomic base that does exactly what it is told.
 
-The integration is `scriptc.motion.Kinematics` (the static check K003 predicts a block's run
+The integration is `scriptc.robot.motion.Kinematics` (the static check K003 predicts a block's run
 with the same code): between two velocity changes the pose follows an arc in closed form,
 integrated exactly over each interval, not in Euler steps. A ramp of the safety governor
 (`set_velocity(..., ramp=...)`, `motion.Ramp`) is followed on the 1 ms grid, like the MuJoCo
@@ -13,7 +13,7 @@ bench/bench_mujoco.py runs in about 0.25 s).
 
 from __future__ import annotations
 
-from scriptc.motion import Kinematics
+from scriptc.robot.motion import Kinematics
 
 
 class KinematicRobot(Kinematics):

@@ -1,7 +1,7 @@
 """The canonical layout of the script syntax: the one place that knows how an item is spaced,
 where a long item breaks and how deep each item is indented.
 
-Two printers use it. The formatter (`scriptc.fmt`) reads the tokens of the text a person
+Two printers use it. The formatter (`scriptc.formatter`) reads the tokens of the text a person
 wrote, keeps its comments, blank lines and number text, and lays each item out here; the IR
 printer (`scriptc.emit.script`, behind `scriptc decompile` and the Python API's `script_text`)
 builds the tokens of each item from the IR and lays it out here too. So a decompiled or

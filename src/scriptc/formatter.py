@@ -7,7 +7,7 @@ the items overlapping a range (for an editor's "format selection"); it works in 
 syntax errors elsewhere, and leaves alone every part of the file that holds one.
 
 The layout of each item (its spacing, where a long item wraps, its indentation) is the
-shared canonical layout, `scriptc.emit.layout`, which the IR printer (`scriptc.emit.script`:
+shared canonical layout, `scriptc.emit.printer`, which the IR printer (`scriptc.emit.script`:
 `scriptc decompile`, the Python API) uses too, so what they print is already formatted. The
 formatter works on the text's tokens, not on the IR, so it keeps what the IR forgets: comments,
 blank lines (at most one in a row), the file's line endings and the exact text of every number,
@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from scriptc.diagnostics.model import Diagnostic
-from scriptc.emit.layout import (
+from scriptc.emit.printer import (
     ACTION_INDENT,
     BLOCK_INDENT,
     INSTRUCTION,
@@ -331,7 +331,7 @@ def _minimal_edit(start: int, old: str, new: str) -> tuple[int, int, str]:
 def _normalize_command(track: str, literal: str) -> str:
     """A command string with the canonical `, ` between its fields, or as it is when that
     could change what it means. Fields are split and trimmed exactly as lowering does
-    (`scriptc.ir.lower`), and the audio path is kept byte for byte, so the compiled values
+    (`scriptc.frontend.script`), and the audio path is kept byte for byte, so the compiled values
     are the same; strings with a backslash in a number field are left alone (trimming next
     to a backslash would change which character it escapes)."""
     raw = literal[1:-1]

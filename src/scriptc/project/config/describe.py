@@ -10,9 +10,9 @@ import os
 from dataclasses import dataclass, field
 from typing import Any
 
-from scriptc.config.load import Resolver
+from scriptc.project.config.load import Resolver
 from scriptc.paths import shown_path
-from scriptc.config.model import ROBOT_KEYS, Settings
+from scriptc.project.config.settings import ROBOT_KEYS, Settings
 from scriptc.diagnostics.model import Diagnostic, Severity
 
 
@@ -57,7 +57,7 @@ class SettingsReport:
 
 def _values(settings: Settings) -> list[tuple[tuple[str, ...], Any]]:
     """(key path, value in force) of every setting, in the order docs/configuration.md has."""
-    from scriptc.profile import profile_from_settings
+    from scriptc.robot.profile import profile_from_settings
 
     profile = profile_from_settings(settings)
     rows: list[tuple[tuple[str, ...], Any]] = [
@@ -83,7 +83,7 @@ def describe(path: str, *, config: str | None = None, isolated: bool = False
              ) -> SettingsReport:
     """The settings of the file (or folder) `path`, as `scriptc lint` would apply them, with
     the origin of each (`config` and `isolated` as `lint --config` and `--isolated`)."""
-    from scriptc.cache import default_cache_dir
+    from scriptc.project.cache import default_cache_dir
 
     resolver = Resolver(config=config, isolated=isolated)
     folder = path if os.path.isdir(path) else os.path.dirname(os.path.abspath(path))
@@ -102,7 +102,7 @@ def describe(path: str, *, config: str | None = None, isolated: bool = False
     prefix: tuple[str, ...] = ()
     errors: list[Diagnostic] = []
     if config_path is not None:
-        from scriptc.config.tomlpos import locate
+        from scriptc.project.config.tomlpos import locate
 
         loaded = resolver.file(config_path)
         report.problems = list(loaded.diagnostics)

@@ -12,7 +12,7 @@ import click
 
 from scriptc import driver, interrupt, writing
 from scriptc.paths import shown_path
-from scriptc.profile import profile_from_settings
+from scriptc.robot.profile import profile_from_settings
 from scriptc.diagnostics.render import FORMATS, render
 
 

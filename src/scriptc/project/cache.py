@@ -6,7 +6,7 @@ when a configuration file changed.
 Layout: `.scriptc_cache/CACHEDIR.TAG` (the cache-directory tagging standard: backup tools
 skip the folder), `.scriptc_cache/.gitignore` (`*`: git ignores the whole folder), then one
 folder per scriptc version holding content-addressed entries (`results/ab/abcd....json`,
-`config/....json`). Entries are written to a temporary file and renamed into place, so two
+`project/config/....json`). Entries are written to a temporary file and renamed into place, so two
 runs at once never see half an entry; an entry that cannot be read is a miss. Deleting the
 folder is always safe.
 
@@ -199,7 +199,7 @@ def default_cache_dir(start: str = ".", *, config: str | None = None,
     if config:
         found = os.path.abspath(config)
     elif not isolated:
-        from scriptc.config import find_config
+        from scriptc.project.config import find_config
 
         found = find_config(start)
     root = os.path.dirname(found) if found else "."

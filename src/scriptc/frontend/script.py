@@ -19,7 +19,7 @@ from lark import Token, Tree
 from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit, diagnostic
 from scriptc.gcpause import gc_paused
 from scriptc.ir import nodes as ir
-from scriptc.ir.values import fields_pattern, read_number
+from scriptc.ir.fields import fields_pattern, read_number
 from scriptc.source import SourceFile, Span
 from scriptc.syntax.parser import ParsedScript, parse_condition_tree, parse_items
 

@@ -12,7 +12,7 @@ import math
 from dataclasses import dataclass
 from typing import NamedTuple, Union
 
-from scriptc.ir.values import NUMBER_RE
+from scriptc.ir.fields import NUMBER_RE
 
 # ---------------------------------------------------------------------------------------------
 # Positions and commands

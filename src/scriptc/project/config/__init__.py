@@ -17,8 +17,8 @@ cached check), `pathspec` only for per-file ignores and exclusions.
 
 from __future__ import annotations
 
-from scriptc.config.load import ConfigFile, Resolver, build_settings, find_config, load_config
-from scriptc.config.model import (ImplementationError, RobotProfile, RuleSelection, Settings,
+from scriptc.project.config.load import ConfigFile, Resolver, build_settings, find_config, load_config
+from scriptc.project.config.settings import (ImplementationError, RobotProfile, RuleSelection, Settings,
                                   UserFunction, UserRule, import_implementation)
 
 __all__ = [

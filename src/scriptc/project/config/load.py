@@ -18,7 +18,7 @@ import re
 import sys
 from typing import Any, NamedTuple
 
-from scriptc.config.model import (ALL, ROBOT_KEYS, SEVERITIES, RobotProfile, RuleSelection,
+from scriptc.project.config.settings import (ALL, ROBOT_KEYS, SEVERITIES, RobotProfile, RuleSelection,
                                   Settings, UserFunction, UserRule)
 from scriptc.diagnostics.model import Diagnostic, diagnostic
 from scriptc.language import is_name
@@ -165,11 +165,11 @@ def _too_deep(text: str) -> Diagnostic:
 def load_config(path: str, cache: Any = None, *, pyproject: bool | None = None) -> ConfigFile:
     """Read, check and build the configuration in `path` (a scriptc.toml or pyproject.toml;
     `pyproject` says which when the file's name does not). Never raises: problems are
-    diagnostics in the file. `cache` (a `scriptc.cache.Cache`) keeps the outcome of checking
+    diagnostics in the file. `cache` (a `scriptc.project.cache.Cache`) keeps the outcome of checking
     by the file's content."""
     import tomllib
 
-    from scriptc.cache import code_fingerprint, digest
+    from scriptc.project.cache import code_fingerprint, digest
 
     path = os.path.abspath(path)
     root = os.path.dirname(path)
@@ -210,7 +210,7 @@ def load_config(path: str, cache: Any = None, *, pyproject: bool | None = None) 
     key = digest(code_fingerprint(), "config", "pyproject" if pyproject else "scriptc", data)
     diagnostics = None
     if cache is not None:
-        from scriptc.cache import load_diagnostic
+        from scriptc.project.cache import load_diagnostic
 
         entry = cache.get("config", key)
         if isinstance(entry, list):
@@ -219,11 +219,11 @@ def load_config(path: str, cache: Any = None, *, pyproject: bool | None = None) 
             except (TypeError, ValueError, KeyError):
                 diagnostics = None
     if diagnostics is None:
-        from scriptc.config.validate import check_config
+        from scriptc.project.config.validate import check_config
 
         diagnostics = check_config(table, source, prefix)
         if cache is not None:
-            from scriptc.cache import dump_diagnostic
+            from scriptc.project.cache import dump_diagnostic
 
             cache.put("config", key, [dump_diagnostic(d) for d in diagnostics])
     return ConfigFile(build_settings(table, path=path, root=root, digest=file_digest),

@@ -32,7 +32,7 @@ def finish(source: SourceFile, script: Script | None, front: list[Diagnostic], *
     suppressed: list[Diagnostic] = []
     # Suppression comments are part of the script; one substring search when there are none.
     if kind == "script" and "scriptc:" in source.text:
-        from scriptc.suppress import apply_suppressions
+        from scriptc.analysis.suppress import apply_suppressions
 
         diagnostics, suppressed = apply_suppressions(source, diagnostics, checked=checked)
     return diagnostics, suppressed

@@ -1,6 +1,6 @@
 """The robot profile: the limits the activities must respect, with safe defaults
 (docs/robot.md). The static safety pass (`check/safety.py`, K codes), the run-time governor
-(`runtime/governor.py`) and what both predict of the robot's ramps (`motion.py`) read it.
+(`runtime/governor.py`) and what both predict of the robot's ramps (`robot/motion.py`) read it.
 
 The defaults are conservative for a robot among small children: a walking child moves at about
 1 m/s, Teo/Oimi's base drove at a few tenths of a metre per second in the thesis's sessions.
@@ -40,7 +40,7 @@ _KEYS = tuple(f.name for f in fields(Profile) if f.name != "source")
 
 
 def profile_from_settings(settings: Any) -> Profile:
-    """The profile of a configuration (`scriptc.config.Settings`, whose `robot` is a
+    """The profile of a configuration (`scriptc.project.config.Settings`, whose `robot` is a
     `RobotProfile` of optional values): the given values over the defaults."""
     robot = getattr(settings, "robot", None)
     if robot is None:

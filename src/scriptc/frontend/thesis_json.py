@@ -1,7 +1,7 @@
 """Thesis JSON -> the typed IR (for `scriptc check FILE.json` and `scriptc decompile`).
 
 Three stages, each reporting in its own code:
-1. `scriptc.syntax.jsonpos` parses the text, keeping the span of every key and value
+1. `scriptc.frontend.jsonpos` parses the text, keeping the span of every key and value
    (J001 on text that is not JSON, at the exact position);
 2. the document is validated against `schemas/thesis-script.schema.json`, plus the one rule a
    JSON Schema cannot state, that `goalN`, `actN` and `blkN` are numbered from 0 without gaps
@@ -10,7 +10,7 @@ Three stages, each reporting in its own code:
    `goal0/act0/blk1/move/0/wait_t`);
 3. the IR is built with spans pointing into the JSON text. Numbers go through `read_number`
    like the script syntax's; `toparse` strings are parsed by the rule grammar
-   (`scriptc.ir.lower.parse_condition`), with positions mapped back through JSON escapes; jump
+   (`scriptc.frontend.script.parse_condition`), with positions mapped back through JSON escapes; jump
    paths that name no block are J003.
 
 The JSON has no labels: jumps name paths. The reader invents a label for every block some jump
@@ -37,11 +37,11 @@ from functools import cache
 from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit, diagnostic
 from scriptc.gcpause import gc_paused
 from scriptc.ir import nodes as ir
-from scriptc.ir.values import read_number
+from scriptc.ir.fields import read_number
 from scriptc.language import name_problem
 from scriptc.numbers import MAX_DIGITS, whole_number
 from scriptc.source import SourceFile, Span
-from scriptc.syntax.jsonpos import JsonError, JsonNode, Member, parse_json, string_offsets
+from scriptc.frontend.jsonpos import JsonError, JsonNode, Member, parse_json, string_offsets
 
 __all__ = ["script_from_json", "invented_label"]
 
@@ -528,7 +528,7 @@ def _numbering_problems(root: JsonNode) -> list[Diagnostic]:
 
 
 def _parse_condition(text: str, base: int):
-    from scriptc.ir.lower import parse_condition
+    from scriptc.frontend.script import parse_condition
 
     return parse_condition(text, base)
 

@@ -26,7 +26,7 @@ from scriptc.ir.nodes import (
     Value,
     VarAssignment,
 )
-from scriptc.ir.values import NUMBER_RE
+from scriptc.ir.fields import NUMBER_RE
 from scriptc.numbers import shown, whole_number
 
 # Decided: the robot's software kept `wait_t` and `duration` in a C++ `int` (32 bits).

@@ -32,7 +32,7 @@ from bisect import bisect_right
 from collections.abc import Iterable
 from typing import NamedTuple
 
-from scriptc.profile import Profile
+from scriptc.robot.profile import Profile
 
 Velocity = tuple[float, float, float]
 ZERO: Velocity = (0.0, 0.0, 0.0)

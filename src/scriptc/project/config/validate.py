@@ -4,7 +4,7 @@ declared once). Every problem is a diagnostic in the configuration file, at the 
 it is about (`tomlpos.locate` finds them: tomllib gives no positions).
 
 This module imports `jsonschema` (about 100 ms); the loader calls it only when a configuration
-file changed (the result is cached by the file's content, `scriptc.cache`).
+file changed (the result is cached by the file's content, `scriptc.project.cache`).
 """
 
 from __future__ import annotations
@@ -15,8 +15,8 @@ import os
 from functools import cache
 from typing import Any
 
-from scriptc.config.model import selected_codes
-from scriptc.config.tomlpos import KeyPath, Positions, locate
+from scriptc.project.config.settings import selected_codes
+from scriptc.project.config.tomlpos import KeyPath, Positions, locate
 from scriptc.diagnostics.model import Diagnostic, diagnostic
 from scriptc.numbers import number_problem
 from scriptc.source import SourceFile
