@@ -1,0 +1,1 @@
+"""What the verbs do, as library calls (see docs/architecture.md)."""
