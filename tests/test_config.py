@@ -23,7 +23,8 @@ from harness import CASES, expect, short_lines
 from scriptc.project.config import (ImplementationError, Resolver, Settings, build_settings,
                             find_config, load_config)
 from scriptc.project.config.tomlpos import locate
-from scriptc.diagnostics.model import Severity, diagnostic
+from scriptc.diagnostics.model import Severity
+from scriptc.diagnostics.codes import diagnostic
 from scriptc.source import Span
 
 CONFIG_CASES = CASES / "config"

@@ -100,7 +100,7 @@ def decode_source(path: str, data: bytes) -> tuple[SourceFile, Diagnostic | None
     if bad is None:
         return SourceFile(path, text), None
 
-    from scriptc.diagnostics.model import diagnostic
+    from scriptc.diagnostics.codes import diagnostic
     from scriptc.source import Span
 
     # The prefix before the first bad byte is valid UTF-8, so its length in code points is
@@ -272,11 +272,12 @@ def suggest_codes(query: str, limit: int = 3) -> list[str]:
 
 
 class LintOptions:
-    """How `lint_paths` runs. `cache_dir` None: `scriptc.project.cache.default_cache_dir()`; `jobs`
-    None: one worker per available core; `progress(done, total)` is called as files finish.
-    `fix` rewrites files with their fixes; `diff` computes the same fixes and writes nothing
-    (each report's `fixed_text`); `unsafe_fixes` takes the unsafe fixes too; `selection` is
-    the command line's rule selection over every configuration (`config.RuleSelection`)."""
+    """How `lint_paths` runs. `cache_dir` None: `scriptc.project.cache.default_cache_dir` of
+    the project's root; `jobs` None: one worker per available core; `progress(done, total)`
+    is called as files finish. `fix` rewrites files with their fixes; `diff` computes the
+    same fixes and writes nothing (each report's `fixed_text`); `unsafe_fixes` takes the
+    unsafe fixes too; `selection` is the command line's rule selection over every
+    configuration (`config.RuleSelection`)."""
 
     def __init__(self, cache: bool = True, cache_dir: str | None = None, jobs: int | None = None,
                  fix: bool = False, config: str | None = None, isolated: bool = False,
@@ -597,13 +598,14 @@ def lint_paths(paths: list[str] | tuple[str, ...], kind: str = "script", *,
     cache = None
     if options.cache:
         from scriptc.project.cache import Cache, default_cache_dir
+        from scriptc.project.config import project_root
 
         # The project's root is that of the first path's configuration (else here): the
         # same folder from wherever scriptc runs.
         first = next((p for p in paths if p != "-"),
                      stdin_name if stdin_name != "<stdin>" else ".")
         cache = Cache(options.cache_dir or default_cache_dir(
-            first, config=options.config, isolated=options.isolated))
+            project_root(first, config=options.config, isolated=options.isolated)))
     resolver = Resolver(cache, config=options.config, isolated=options.isolated,
                         selection=options.selection)
     files, problems = discover(paths, kind, resolver=resolver,
@@ -748,9 +750,11 @@ def settings_for(path: str, *, cache: bool = True):
     store = None
     if cache:
         from scriptc.project.cache import Cache, default_cache_dir
+        from scriptc.project.config import project_root
 
         # The cache of the file's project, wherever scriptc runs (as `lint_paths`).
-        store = Cache(default_cache_dir(path if path not in ("-", "<stdin>") else "."))
+        store = Cache(default_cache_dir(project_root(path if path not in ("-", "<stdin>")
+                                                     else ".")))
     resolver = Resolver(store)
     settings = resolver.for_file(path if path not in ("-", "<stdin>") else "-")
     reports = [FileReport(c.source, c.diagnostics, c.source.path)

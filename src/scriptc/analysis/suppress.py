@@ -28,7 +28,8 @@ import bisect
 import re
 from dataclasses import dataclass, field
 
-from scriptc.diagnostics.model import Diagnostic, Fix, Severity, TextEdit, diagnostic
+from scriptc.diagnostics.model import Diagnostic, Fix, Severity, TextEdit
+from scriptc.diagnostics.codes import diagnostic
 from scriptc.source import SourceFile, Span
 
 MARKER = "scriptc:"

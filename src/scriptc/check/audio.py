@@ -9,7 +9,8 @@ import posixpath
 import re
 
 from scriptc.check.context import Context
-from scriptc.diagnostics.model import Diagnostic, diagnostic
+from scriptc.diagnostics.model import Diagnostic
+from scriptc.diagnostics.codes import diagnostic
 from scriptc.ir.nodes import InstructionBlock
 
 SILENCE = "Silence"

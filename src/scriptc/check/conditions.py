@@ -17,7 +17,8 @@ from __future__ import annotations
 import bisect
 
 from scriptc.check.context import Context, closest, code_list, suggestion
-from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit, diagnostic
+from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit
+from scriptc.diagnostics.codes import diagnostic
 from scriptc.ir.builtins import CLASSES, SCOPES
 from scriptc.ir.nodes import (
     AliasRef,

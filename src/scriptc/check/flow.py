@@ -14,7 +14,8 @@ Everything here is iterative (no recursion): scripts may have 10,000 blocks and 
 from __future__ import annotations
 
 from scriptc.check.context import Context
-from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit, diagnostic
+from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit
+from scriptc.diagnostics.codes import diagnostic
 from scriptc.ir.nodes import InstructionBlock, JumpBlock, Name, TerminusBlock, block_path
 from scriptc.source import Span
 

@@ -5,7 +5,8 @@ goal ids are unique (L002), and every jump target names a label of the same scri
 from __future__ import annotations
 
 from scriptc.check.context import Context, closest, suggestion
-from scriptc.diagnostics.model import Diagnostic, Label, diagnostic
+from scriptc.diagnostics.model import Diagnostic, Label
+from scriptc.diagnostics.codes import diagnostic
 from scriptc.ir.nodes import Name
 
 # Suggestions cost a difflib scan over every label; past this many distinct unknown targets

@@ -6,7 +6,8 @@ omega list undoes what the alfa list did (M004).
 from __future__ import annotations
 
 from scriptc.check.context import Context
-from scriptc.diagnostics.model import Diagnostic, Fix, TextEdit, diagnostic
+from scriptc.diagnostics.model import Diagnostic, Fix, TextEdit
+from scriptc.diagnostics.codes import diagnostic
 from scriptc.ir.nodes import RuleMessage
 from scriptc.source import Span
 

@@ -33,7 +33,8 @@ from collections import deque
 
 from scriptc.check.context import Context
 from scriptc.check.flow import next_timed, successors
-from scriptc.diagnostics.model import Diagnostic, Label, diagnostic
+from scriptc.diagnostics.model import Diagnostic, Label
+from scriptc.diagnostics.codes import diagnostic
 from scriptc.ir.nodes import InstructionBlock, MoveCommand, Number
 from scriptc.robot.motion import (
     GROUPS,

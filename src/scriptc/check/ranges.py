@@ -11,7 +11,8 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from scriptc.check.context import Context
-from scriptc.diagnostics.model import Diagnostic, Fix, TextEdit, diagnostic
+from scriptc.diagnostics.model import Diagnostic, Fix, TextEdit
+from scriptc.diagnostics.codes import diagnostic
 from scriptc.ir.nodes import (
     AttAssignment,
     CallEvaluation,

@@ -42,7 +42,8 @@ from dataclasses import dataclass
 from scriptc.check.context import Context
 from scriptc.check.flow import next_timed, successors
 from scriptc.check.ramps import check_ramps, number, whole_ms
-from scriptc.diagnostics.model import Diagnostic, Label, diagnostic
+from scriptc.diagnostics.model import Diagnostic, Label
+from scriptc.diagnostics.codes import diagnostic
 from scriptc.gcpause import gc_paused
 from scriptc.ir.nodes import InstructionBlock, JumpBlock, LedCommand, Number, block_path
 from scriptc.robot.profile import Profile

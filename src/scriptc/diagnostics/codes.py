@@ -24,7 +24,8 @@ from functools import cache
 from importlib import resources
 from pathlib import Path
 
-from scriptc.diagnostics.model import Severity
+from scriptc.diagnostics.model import Diagnostic, Fix, Label, Severity
+from scriptc.source import Span
 
 E, W, I = Severity.ERROR, Severity.WARNING, Severity.INFO
 
@@ -127,8 +128,45 @@ def lookup(code: str) -> Code:
     return entry
 
 
+def diagnostic(
+    code: str,
+    message: str,
+    span: Span,
+    *,
+    labels: tuple[Label, ...] | list[Label] = (),
+    notes: tuple[str, ...] | list[str] = (),
+    help: str | None = None,
+    fix: Fix | None = None,
+    path: str | None = None,
+    severity: Severity | None = None,
+) -> Diagnostic:
+    """Build a diagnostic with the registry's default severity for `code`."""
+    entry = lookup(code)
+    return Diagnostic(
+        code=code,
+        severity=severity or entry.severity,
+        message=message,
+        span=span,
+        labels=tuple(labels),
+        notes=tuple(notes),
+        help=help,
+        fix=fix,
+        path=path,
+    )
+
+
 def all_codes() -> tuple[Code, ...]:
     return _CODES
+
+
+def suggest_codes(query: str, limit: int = 3) -> list[str]:
+    """Codes close to a mistyped code or name, best first (`scriptc explain`, `--select`)."""
+    import difflib
+
+    hits = difflib.get_close_matches(query.upper(), list(REGISTRY), n=limit, cutoff=0.5)
+    hits += [BY_NAME[n].code for n in difflib.get_close_matches(query.lower(), list(BY_NAME),
+                                                                n=limit, cutoff=0.6)]
+    return list(dict.fromkeys(hits))[:limit]
 
 
 def explanation_uri(code: str) -> str | None:

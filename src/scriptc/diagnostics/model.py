@@ -1,5 +1,9 @@
 """The diagnostic model shared by every stage, renderer, the CLI and the language server.
 
+The model knows no code: a diagnostic built with its code's default severity is
+`scriptc.diagnostics.codes.diagnostic`, over the registry (the registry imports this module,
+never the reverse).
+
 A diagnostic belongs to one source file (the caller keeps them together); its spans are
 offsets into that file's text. Messages follow rustc: lowercase, no trailing period, code
 spans in backticks.
@@ -65,35 +69,6 @@ class Diagnostic:
 
     def sort_key(self) -> tuple[int, int, str]:
         return (self.span.start, self.span.end, self.code)
-
-
-def diagnostic(
-    code: str,
-    message: str,
-    span: Span,
-    *,
-    labels: tuple[Label, ...] | list[Label] = (),
-    notes: tuple[str, ...] | list[str] = (),
-    help: str | None = None,
-    fix: Fix | None = None,
-    path: str | None = None,
-    severity: Severity | None = None,
-) -> Diagnostic:
-    """Build a diagnostic with the registry's default severity for `code`."""
-    from scriptc.diagnostics.codes import lookup
-
-    entry = lookup(code)
-    return Diagnostic(
-        code=code,
-        severity=severity or entry.severity,
-        message=message,
-        span=span,
-        labels=tuple(labels),
-        notes=tuple(notes),
-        help=help,
-        fix=fix,
-        path=path,
-    )
 
 
 def has_errors(diagnostics: list[Diagnostic] | tuple[Diagnostic, ...]) -> bool:

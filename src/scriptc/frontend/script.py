@@ -16,7 +16,8 @@ import re
 
 from lark import Token, Tree
 
-from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit, diagnostic
+from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit
+from scriptc.diagnostics.codes import diagnostic
 from scriptc.gcpause import gc_paused
 from scriptc.ir import nodes as ir
 from scriptc.ir.fields import fields_pattern, read_number

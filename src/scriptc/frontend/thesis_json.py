@@ -34,7 +34,8 @@ import json
 import re
 from functools import cache
 
-from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit, diagnostic
+from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit
+from scriptc.diagnostics.codes import diagnostic
 from scriptc.gcpause import gc_paused
 from scriptc.ir import nodes as ir
 from scriptc.ir.fields import read_number

@@ -8,7 +8,8 @@ from __future__ import annotations
 
 import re
 
-from scriptc.diagnostics.model import Diagnostic, diagnostic
+from scriptc.diagnostics.model import Diagnostic
+from scriptc.diagnostics.codes import diagnostic
 from scriptc.ir.nodes import Number
 from scriptc.source import Span
 

@@ -21,7 +21,8 @@ from lark import Lark, Tree
 from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 from lark.lexer import PatternStr
 
-from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit, diagnostic
+from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit
+from scriptc.diagnostics.codes import diagnostic
 from scriptc.resources import grammar_path
 from scriptc.source import Span
 from scriptc.syntax.lexer import ContextualFastLexer

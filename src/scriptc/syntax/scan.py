@@ -12,7 +12,8 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 
-from scriptc.diagnostics.model import Diagnostic, Label, diagnostic
+from scriptc.diagnostics.model import Diagnostic, Label
+from scriptc.diagnostics.codes import diagnostic
 from scriptc.source import Span
 
 # Inside an item, the characters that change what follows.

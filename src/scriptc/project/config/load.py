@@ -20,7 +20,8 @@ from typing import Any, NamedTuple
 
 from scriptc.project.config.settings import (ALL, ROBOT_KEYS, SEVERITIES, RobotProfile, RuleSelection,
                                   Settings, UserFunction, UserRule)
-from scriptc.diagnostics.model import Diagnostic, diagnostic
+from scriptc.diagnostics.model import Diagnostic
+from scriptc.diagnostics.codes import diagnostic
 from scriptc.language import is_name
 from scriptc.numbers import MAX_DIGITS, number_problem
 from scriptc.paths import shown_path

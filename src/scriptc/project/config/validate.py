@@ -17,7 +17,8 @@ from typing import Any
 
 from scriptc.project.config.settings import selected_codes
 from scriptc.project.config.tomlpos import KeyPath, Positions, locate
-from scriptc.diagnostics.model import Diagnostic, diagnostic
+from scriptc.diagnostics.model import Diagnostic
+from scriptc.diagnostics.codes import diagnostic
 from scriptc.numbers import number_problem
 from scriptc.source import SourceFile
 
