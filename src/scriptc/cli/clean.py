@@ -76,10 +76,11 @@ def caches_below(path: str) -> list[str]:
 def command(ctx: click.Context, path: str, cache_dir: str | None) -> None:
     """Remove the cache folder of the project PATH is in (default: here), and the caches of
     sub-projects below PATH."""
-    from scriptc.project.cache import default_cache_dir
     from scriptc.paths import shown_path
+    from scriptc.project.cache import default_cache_dir
+    from scriptc.project.config import project_root
 
-    main = cache_dir or default_cache_dir(path)
+    main = cache_dir or default_cache_dir(project_root(path))
     candidates = [main, *caches_below(path)]
     removed = refused = 0
     seen: set[str] = set()

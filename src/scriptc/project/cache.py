@@ -10,6 +10,9 @@ folder per scriptc version holding content-addressed entries (`results/ab/abcd..
 runs at once never see half an entry; an entry that cannot be read is a miss. Deleting the
 folder is always safe.
 
+The cache knows nothing of the configuration: its callers give it its root and the material
+of its keys (the configuration's digest among them).
+
 The key of an entry includes a fingerprint of scriptc's own code (size and modification time
 of its modules and grammars), so that in a source checkout a change to a check is never
 hidden behind the results of the old code.
@@ -186,21 +189,9 @@ class Cache:
         self.put("results", key, [dump_diagnostic(d) for d in diagnostics])
 
 
-def default_cache_dir(start: str = ".", *, config: str | None = None,
-                      isolated: bool = False) -> str:
-    """Where the cache goes without `--cache-dir`: `SCRIPTC_CACHE_DIR`, else the project's
-    root: the folder of the configuration (`config` when one is forced, else the one that
-    applies to `start`, a file or folder), else (no configuration, or `isolated`) the working
-    folder. From a subfolder or from outside the project, it is the same folder."""
-    env = os.environ.get("SCRIPTC_CACHE_DIR")
-    if env:
-        return env
-    found = None
-    if config:
-        found = os.path.abspath(config)
-    elif not isolated:
-        from scriptc.project.config import find_config
-
-        found = find_config(start)
-    root = os.path.dirname(found) if found else "."
-    return os.path.join(root, CACHE_DIR_NAME)
+def default_cache_dir(root: str = ".") -> str:
+    """Where the cache goes without `--cache-dir`: `SCRIPTC_CACHE_DIR`, else the folder
+    `.scriptc_cache` in the project's `root` (`scriptc.project.config.project_root`: the folder
+    of the configuration, so that from a subfolder or from outside the project it is the same
+    folder)."""
+    return os.environ.get("SCRIPTC_CACHE_DIR") or os.path.join(root, CACHE_DIR_NAME)

@@ -10,7 +10,7 @@ import os
 from dataclasses import dataclass, field
 from typing import Any
 
-from scriptc.project.config.load import Resolver
+from scriptc.project.config.load import Resolver, project_root
 from scriptc.paths import shown_path
 from scriptc.project.config.settings import ROBOT_KEYS, Settings
 from scriptc.diagnostics.model import Diagnostic, Severity
@@ -93,8 +93,8 @@ def describe(path: str, *, config: str | None = None, isolated: bool = False
         file=path,
         configuration=None if config_path is None else shown_path(config_path),
         root=shown_path(os.path.abspath(settings.root)) if config_path else ".",
-        cache_dir=shown_path(os.path.abspath(default_cache_dir(path, config=config,
-                                                               isolated=isolated))),
+        cache_dir=shown_path(os.path.abspath(default_cache_dir(
+            project_root(path, config=config, isolated=isolated)))),
         codes=settings.policy(),
         ignored_here=settings.ignored_here(path),
     )

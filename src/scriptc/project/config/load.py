@@ -97,6 +97,17 @@ def find_config(start: str) -> str | None:
         folder = parent
 
 
+def project_root(start: str = ".", *, config: str | None = None,
+                 isolated: bool = False) -> str:
+    """The root of the project `start` (a file or folder) belongs to: the folder of the
+    configuration (`config` when one is forced, else the one that applies to `start`), else
+    (no configuration, or `isolated`) the working folder `.`."""
+    if config:
+        return os.path.dirname(os.path.abspath(config))
+    found = None if isolated else find_config(start)
+    return os.path.dirname(found) if found else "."
+
+
 def config_candidates(start: str) -> list[str]:
     """The files whose creation, change or deletion can change the configuration of `start`
     (a file or a folder), existing or not: the configuration files its folder and each folder
