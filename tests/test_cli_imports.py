@@ -1,7 +1,7 @@
 """Cold start: `scriptc lint` imports only what linting uses. pygls (~0.4 s), mujoco and
-jsonschema are for other verbs, rich only colours a terminal and watchfiles only serves `--watch`
-(docs/performance.md). Each check runs the CLI in a fresh interpreter and looks at sys.modules
-at exit."""
+jsonschema are for other verbs, rich only shows an explanation's markdown in a terminal and
+watchfiles only serves `--watch` (docs/performance.md). Each check runs the CLI in a fresh
+interpreter and looks at sys.modules at exit."""
 
 from __future__ import annotations
 
@@ -64,6 +64,8 @@ def test_version_and_help_do_not_load_the_compiler(folder: Path) -> None:
         assert not loaded & {"lark", *HEAVY}, loaded & {"lark", *HEAVY}
 
 
-def test_colour_on_demand_loads_rich(folder: Path) -> None:
-    """The probe can tell: asking for colour does import rich."""
-    assert "rich" in loaded_after(["--color", "always", "lint", "b.script"], folder)
+def test_colour_on_demand_loads_rich_only_for_markdown(folder: Path) -> None:
+    """Diagnostics are coloured without rich (the renderer writes ANSI codes itself); the
+    probe can tell, since an explanation's markdown in colour does import it."""
+    assert "rich" not in loaded_after(["--color", "always", "lint", "b.script"], folder)
+    assert "rich" in loaded_after(["--color", "always", "explain", "L003"], folder)

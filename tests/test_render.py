@@ -9,6 +9,8 @@ import json
 import re
 
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 from harness import CASES, expect
 from scriptc.diagnostics.model import Diagnostic, Fix, Label, Severity, TextEdit
@@ -200,6 +202,48 @@ def test_colour_is_the_plain_text_with_ansi_codes() -> None:
     coloured = render_text(results, color=True)
     assert "\x1b[" in coloured
     assert re.sub(r"\x1b\[[0-9;]*m", "", coloured) == render_text(results)
+
+
+def _rich_colour(lines) -> str:
+    """The lines coloured by rich, as the renderer did before it wrote ANSI codes itself."""
+    import io
+
+    from rich.console import Console
+    from rich.text import Text
+
+    buffer = io.StringIO()
+    console = Console(file=buffer, force_terminal=True, color_system="standard", no_color=False,
+                      width=1_000_000, soft_wrap=True, highlight=False, markup=False, emoji=False,
+                      legacy_windows=False)
+    for line in lines:
+        text = Text(no_wrap=True)
+        for piece, style in line:
+            text.append(piece, style)
+        console.print(text)
+    return buffer.getvalue()
+
+
+@pytest.mark.parametrize("name", sorted(SNAPSHOTS))
+def test_colour_is_what_rich_wrote(name: str) -> None:
+    """The renderer writes its colours without rich (diagnostics/ imports no third-party
+    package), byte for byte as rich did."""
+    from scriptc.diagnostics import render as module
+
+    results = SNAPSHOTS[name]()
+    assert render_text(results, color=True) == _rich_colour(module._text_lines(results))
+
+
+_PIECE_TEXT = st.text(st.characters(blacklist_categories=("Cc", "Cs", "Zl", "Zp", "Cf")),
+                      max_size=12)
+
+
+@given(st.lists(st.lists(st.tuples(_PIECE_TEXT, st.sampled_from(
+    [None, "bold", "bold red", "bold yellow", "bold cyan", "bold blue"])), max_size=6),
+    max_size=5))
+def test_any_styled_lines_colour_as_rich_coloured_them(lines) -> None:
+    from scriptc.diagnostics import render as module
+
+    assert module._colour(lines) == _rich_colour(lines)
 
 
 def test_summary_counts_every_severity() -> None:

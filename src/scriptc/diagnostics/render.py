@@ -4,7 +4,7 @@ Each renderer takes a list of results, one per file, each with a `source` (Sourc
 its `diagnostics` (in the order to show them), and returns the whole output as a string:
 
 - `render_text`   rustc style, for people (`error[L003]: ...`, ` --> file:line:col`, the source
-                  line with `^^^` under the span); colour through rich only when asked for;
+                  line with `^^^` under the span); ANSI colours only when asked for;
 - `render_json`   a JSON list, one object per diagnostic (schemas/lint-output.schema.json);
 - `render_sarif`  SARIF 2.1.0, for code-scanning services;
 - `render_github` GitHub Actions workflow commands (`::error file=...::message`).
@@ -13,8 +13,8 @@ Positions shown anywhere are 1-based lines and columns counted in code points; e
 are exclusive (the column just after the span), as in SARIF. Files are named as the driver
 named them (`scriptc.paths.shown_path`) in text and JSON, and relative to the repository's
 root (`scriptc.paths.repository_path`) in SARIF and GitHub's format. This module imports
-nothing beyond the standard library unless colour is asked for (`rich`, then): it sits on the
-path of `scriptc lint`, whose cold start is budgeted.
+nothing beyond the standard library, colours included (it writes the ANSI codes itself): it
+sits on the path of `scriptc lint`, whose cold start is budgeted.
 """
 
 from __future__ import annotations
@@ -65,8 +65,12 @@ _SEVERITY_STYLE = {
 _FRAME = "bold blue"  # gutter, arrow, `|`, `=` and secondary labels
 _BOLD = "bold"
 
-# A line of output: pieces of text, each with a rich style or None.
+# A line of output: pieces of text, each with a style (words of `_SGR`) or None.
 _Line = list[tuple[str, "str | None"]]
+
+# The ANSI select-graphic-rendition parameter of each word of a style: the eight standard
+# colours, which every terminal shows in its own palette.
+_SGR = {"bold": "1", "red": "31", "yellow": "33", "blue": "34", "cyan": "36"}
 
 
 def _cell(ch: str) -> tuple[str, int]:
@@ -245,8 +249,15 @@ def _summary_line(results: Sequence[Any]) -> _Line:
 
 
 def render_text(results: Sequence[Any], *, color: bool = False) -> str:
-    """rustc-style text. With `color`, ANSI colours made by rich; without it, plain text and
-    rich is not imported."""
+    """rustc-style text. With `color`, each styled piece in ANSI colours (`_colour`)."""
+    lines = _text_lines(results)
+    if not color:
+        return "".join("".join(text for text, _style in line) + "\n" for line in lines)
+    return _colour(lines)
+
+
+def _text_lines(results: Sequence[Any]) -> list[_Line]:
+    """The lines of the text format, each a list of styled pieces."""
     lines: list[_Line] = []
     for source, diagnostics in _pairs(results):
         for d in diagnostics:
@@ -254,29 +265,25 @@ def render_text(results: Sequence[Any], *, color: bool = False) -> str:
             lines.append([])
     if lines:
         lines.append(_summary_line(results))
-    if not color:
-        return "".join("".join(text for text, _style in line) + "\n" for line in lines)
-    return _colour(lines)
+    return lines
 
 
 def _colour(lines: list[_Line]) -> str:
-    import io
-
-    from rich.console import Console
-    from rich.text import Text
-
-    buffer = io.StringIO()
-    # Explicit settings, so the result depends on nothing but the lines: standard ANSI
-    # colours, no wrapping, no markup or emoji codes read from the user's text.
-    console = Console(file=buffer, force_terminal=True, color_system="standard", no_color=False,
-                      width=1_000_000, soft_wrap=True, highlight=False, markup=False, emoji=False,
-                      legacy_windows=False)
+    """The lines with each styled piece between its SGR code and a reset (`ESC[1;31m...ESC[0m`:
+    what rich wrote for these styles, which scriptc used before; a test holds them equal). The
+    pieces' text is safe for a terminal already (`_cell`, `_visible`)."""
+    out = []
     for line in lines:
-        text = Text(no_wrap=True)
         for piece, style in line:
-            text.append(piece, style)
-        console.print(text)
-    return buffer.getvalue()
+            if not piece:
+                continue
+            if style is None:
+                out.append(piece)
+            else:
+                sgr = ";".join(_SGR[word] for word in style.split())
+                out.append(f"\x1b[{sgr}m{piece}\x1b[0m")
+        out.append("\n")
+    return "".join(out)
 
 
 # ---------------------------------------------------------------------------------------------
