@@ -290,7 +290,8 @@ def fmt(data: bytes) -> None:
 
 
 def fix(data: bytes) -> None:
-    from scriptc.driver import MAX_FIX_ROUNDS, analyze_script, apply_fixes
+    from scriptc.diagnostics.edits import apply_fixes
+    from scriptc.driver import MAX_FIX_ROUNDS, analyze_script
     from scriptc.source import SourceFile
 
     analysis = _analysis(data)

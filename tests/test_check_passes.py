@@ -8,6 +8,7 @@ import subprocess
 import sys
 
 from scriptc.check import Context, check_script
+from scriptc.diagnostics import edits
 from scriptc.diagnostics.model import Severity
 from scriptc.driver import analyze_script
 from scriptc.ir.builtins import STANDARD, Function, Param
@@ -31,10 +32,11 @@ def under(text: str, diagnostic) -> str:
 
 
 def apply_fixes(text: str, diagnostics) -> str:
-    edits = [e for d in diagnostics if d.fix for e in d.fix.edits]
-    for e in sorted(edits, key=lambda e: (e.span.start, e.span.end), reverse=True):
-        text = text[: e.span.start] + e.new_text + text[e.span.end :]
-    return text
+    """`text` with the fixes of `diagnostics` applied; every one of them must go."""
+    fixes = [d.fix for d in diagnostics if d.fix]
+    fixed, applied = edits.apply_fixes(text, fixes)
+    assert applied == len(fixes)
+    return fixed
 
 
 HEAD = "[act]\n"

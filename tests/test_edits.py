@@ -50,6 +50,11 @@ def test_overlapping_fixes_wait_for_the_next_round() -> None:
     assert apply_fixes(TEXT, [fix((0, 2, "X"), (1, 3, "Y")), fix((7, 8, "H"))]) == (
         "abcdefgH", 1)
     assert apply_fixes(TEXT, [fix((6, 8, ""), (0, 0, ">"))]) == (">abcdef", 1)
+    # The edits of one fix are one change: insertions at one place go in the fix's order.
+    assert apply_fixes(TEXT, [fix((2, 2, "X"), (2, 2, "Y"))]) == ("abXYcdefgh", 1)
+    assert apply_fixes(TEXT, [fix((2, 4, "-"), (2, 2, "+")), fix((4, 4, "!"))]) == (
+        "ab+-!efgh", 2)
+    assert apply_fixes(TEXT, [fix((1, 5, "X"), (3, 3, "Y"))]) == (TEXT, 0)
     assert apply_fixes(TEXT, []) == (TEXT, 0)
 
 

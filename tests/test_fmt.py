@@ -15,6 +15,7 @@ from pathlib import Path
 import pytest
 
 from harness import CASES, UPDATE
+from scriptc.diagnostics.edits import apply_edits
 from scriptc.driver import analyze_script
 from scriptc.emit.json import emit_json
 from scriptc.formatter import LINE_WIDTH, FormatResult, format_range, format_text
@@ -161,29 +162,23 @@ def test_command_with_backslash_before_the_quote_is_left_alone() -> None:
 MESSY = "[a]\n[goal:g]\n[action]\n[b##blk_inst:MV() LD() AO()]\n[b##blk_terminus]\n"
 
 
-def apply(text: str, edits: list[tuple[int, int, str]]) -> str:
-    for start, end, new in sorted(edits, reverse=True):
-        text = text[:start] + new + text[end:]
-    return text
-
-
 def test_range_of_everything_is_format_text() -> None:
     for path in INPUTS:
         text = path.read_text(encoding="utf-8")
-        assert apply(text, format_range(text, 0, len(text))) == format_text(text).text, path
+        assert apply_edits(text, format_range(text, 0, len(text))) == format_text(text).text, path
 
 
 def test_range_reformats_only_the_items_it_touches() -> None:
     at = MESSY.index("[b##blk_inst")
     edits = format_range(MESSY, at + 3, at + 5)
-    assert apply(MESSY, edits) == MESSY.replace("[b##blk_inst:MV()", "    [b##blk_inst: MV()")
-    for start, end, _new in edits:
+    assert apply_edits(MESSY, edits) == MESSY.replace("[b##blk_inst:MV()", "    [b##blk_inst: MV()")
+    for (start, end), _new in ((e.span, e.new_text) for e in edits):
         assert MESSY.index("[action]") + len("[action]") <= start and end <= MESSY.index("]\n[b##blk_t")
 
 
 def test_empty_range_takes_the_item_at_the_cursor() -> None:
     at = MESSY.index("[action]") + 2
-    assert apply(MESSY, format_range(MESSY, at, at)) == MESSY.replace("[action]", "  [action]")
+    assert apply_edits(MESSY, format_range(MESSY, at, at)) == MESSY.replace("[action]", "  [action]")
 
 
 def test_range_of_a_formatted_text_has_no_edits() -> None:
@@ -193,14 +188,14 @@ def test_range_of_a_formatted_text_has_no_edits() -> None:
 
 def test_range_works_beside_a_syntax_error_and_never_touches_it() -> None:
     text = "[a]\n[goal:g]\n[action]\n[b##blk_inst: MV( LD() AO()]\n[b##blk_terminus]\n"
-    whole = apply(text, format_range(text, 0, len(text)))
+    whole = apply_edits(text, format_range(text, 0, len(text)))
     assert whole == "[a]\n[goal:g]\n  [action]\n[b##blk_inst: MV( LD() AO()]\n    [b##blk_terminus]\n"
     broken = text.index("MV(")
     assert format_range(text, broken, broken + 1) == []
 
 
 def test_range_clamps_offsets() -> None:
-    assert apply(MESSY, format_range(MESSY, -5, 10**6)) == format_text(MESSY).text
+    assert apply_edits(MESSY, format_range(MESSY, -5, 10**6)) == format_text(MESSY).text
 
 
 def test_examples_in_docs_are_formatted() -> None:

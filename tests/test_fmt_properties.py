@@ -14,6 +14,7 @@ import re
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from scriptc.diagnostics.edits import apply_edits
 from scriptc.driver import analyze_script
 from scriptc.emit.json import emit_json
 from scriptc.emit.script import format_script
@@ -77,12 +78,6 @@ def comments(text: str) -> list[str]:
     return [text[c.start : c.end] for c in scan(text).comments]
 
 
-def apply(text: str, edits) -> str:
-    for start, end, new in sorted(edits, reverse=True):
-        text = text[:start] + new + text[end:]
-    return text
-
-
 @FAST
 @given(decorated())
 def test_formatting_is_idempotent_and_keeps_meaning_and_comments(text: str) -> None:
@@ -116,10 +111,10 @@ def test_canonical_printer_output_is_already_formatted(text: str) -> None:
 @given(decorated(max_blocks=6), st.data())
 def test_range_formatting_agrees_with_whole_formatting(text: str, data) -> None:
     whole = format_text(text).text
-    assert apply(text, format_range(text, 0, len(text))) == whole
+    assert apply_edits(text, format_range(text, 0, len(text))) == whole
     a = data.draw(st.integers(0, len(text)))
     b = data.draw(st.integers(a, len(text)))
-    partial = apply(text, format_range(text, a, b))
+    partial = apply_edits(text, format_range(text, a, b))
     # Formatting a part, then the whole, is formatting the whole; the part kept its meaning.
     # (Line endings aside: a file whose only line breaks are inside the items formatted has
     # none left to tell its style, so it gets `\n`.)
@@ -143,11 +138,11 @@ def _check_broken(text: str) -> None:
     else:
         assert format_text(result.text).text == result.text
     a, b = 0, len(text)
-    once = apply(text, format_range(text, a, b))
+    once = apply_edits(text, format_range(text, a, b))
     # What does not parse is left as it is: the same syntax errors, the same comments.
     assert _syntax(once) == _syntax(text)
     assert comments(once) == comments(text)
-    assert apply(once, format_range(once, 0, len(once))) == once
+    assert apply_edits(once, format_range(once, 0, len(once))) == once
 
 
 @FAST

@@ -20,7 +20,7 @@ from pathlib import Path
 import pytest
 
 from harness import CASES, expect
-from scriptc.diagnostics.model import TextEdit
+from scriptc.diagnostics.edits import apply_edits
 from scriptc.ide import actions, completion, hints, hover, navigation, outline, tokens
 from scriptc.ide.answers import RenameError
 from scriptc.ide.snapshot import Snapshot
@@ -54,14 +54,6 @@ def _span(snapshot: Snapshot, span: Span) -> str:
     covered = snapshot.text[span.start:span.end]
     shown = covered if len(covered) <= 60 and "\n" not in covered else covered[:57].split("\n")[0] + "..."
     return f"{_at(snapshot, span.start)}-{_at(snapshot, span.end)} `{shown}`"
-
-
-def _apply(text: str, edits: list[TextEdit]) -> str:
-    """Edits applied as the protocol says: insertions at one offset keep their order."""
-    order = sorted(enumerate(edits), key=lambda pair: (pair[1].span.start, pair[0]), reverse=True)
-    for _, e in order:
-        text = text[:e.span.start] + e.new_text + text[e.span.end:]
-    return text
 
 
 def _hover(s: Snapshot, cursor: int, end, args) -> str:
@@ -102,7 +94,7 @@ def _rename(s: Snapshot, cursor: int, end, args) -> str:
         edits = navigation.rename(s, cursor, args[0])
     except RenameError as error:
         return f"refused: {error}\n"
-    return f"renaming {_span(s, span)} ({name})\n\n{_apply(s.text, edits)}"
+    return f"renaming {_span(s, span)} ({name})\n\n{apply_edits(s.text, edits)}"
 
 
 def _symbols(s: Snapshot, cursor, end, args) -> str:
@@ -146,7 +138,7 @@ def _actions(s: Snapshot, cursor, end, args) -> str:
     for a in actions.code_actions(s, span, only):
         codes = ", ".join(d.code for d in a.diagnostics)
         out.append(f"== {a.title} ({a.kind}{', preferred' if a.preferred else ''}; {codes})\n"
-                   f"{_apply(s.text, list(a.edits))}")
+                   f"{apply_edits(s.text, list(a.edits))}")
     return "\n".join(out) or "(nothing)\n"
 
 

@@ -240,26 +240,19 @@ def test_fix_reports_the_text_it_wrote(project: Path) -> None:
     assert "1 fix available" not in result.stderr
 
 
+def test_fix_applies_a_fix_that_inserts_twice_at_one_place(project: Path) -> None:
+    # S008's fix inserts ` LD()` then ` AO()` after the move: one change, in that order.
+    path = project / "t.script"
+    path.write_text('[t]\n[goal:g]\n[action]\n[b##blk_inst: MV("0, 0, 0.5, 0, 1000")]\n'
+                    "[b##blk_terminus]\n")
+    result = run("lint", "t.script", "--fix")
+    assert result.stderr == "fixed 1 problem in 1 file\n"
+    assert 'MV("0, 0, 0.5, 0, 1000") LD() AO()]' in path.read_text()
+
+
 def test_fix_refuses_stdin(project: Path) -> None:
     result = run("lint", "-", "--fix", input=FIXABLE.encode())
     assert result.exit_code == 2 and "stdin" in result.stderr
-
-
-def test_overlapping_fixes_wait_for_the_next_round() -> None:
-    from scriptc.diagnostics.model import Fix, TextEdit
-    from scriptc.source import Span
-
-    def fix(*edits: tuple[int, int, str]) -> Fix:
-        return Fix("f", tuple(TextEdit(Span(a, b), t) for a, b, t in edits))
-
-    text = "abcdefgh"
-    assert driver.apply_fixes(text, [fix((0, 2, "X")), fix((1, 3, "Y"))]) == ("Xcdefgh", 1)
-    assert driver.apply_fixes(text, [fix((2, 2, "X")), fix((2, 2, "Y"))]) == ("abXcdefgh", 1)
-    assert driver.apply_fixes(text, [fix((1, 4, "")), fix((2, 2, "Y"))]) == ("aefgh", 1)
-    assert driver.apply_fixes(text, [fix((0, 1, "A")), fix((1, 2, "B"))]) == ("ABcdefgh", 2)
-    assert driver.apply_fixes(text, [fix((0, 2, "X"), (1, 3, "Y")), fix((7, 8, "H"))]) == (
-        "abcdefgH", 1)
-    assert driver.apply_fixes(text, [fix((6, 8, ""), (0, 0, ">"))]) == (">abcdef", 1)
 
 
 # ---------------------------------------------------------------------------------------------

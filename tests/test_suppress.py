@@ -7,7 +7,8 @@ from __future__ import annotations
 
 import pytest
 
-from scriptc.driver import analyze_bytes, analyze_script, apply_fixes
+from scriptc.diagnostics.edits import apply_fixes
+from scriptc.driver import analyze_bytes, analyze_script
 from scriptc.source import SourceFile
 from scriptc.analysis.suppress import find_suppressions
 from test_check_explanations import example_script

@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from scriptc import interrupt
+from scriptc.diagnostics.edits import apply_fixes
 from scriptc.diagnostics.model import Diagnostic, has_errors
 from scriptc.analysis.finish import finish
 from scriptc.gcpause import gc_paused
@@ -551,34 +552,6 @@ def _stop_workers(pool) -> None:
             process.kill()
             process.join()
     pool.shutdown(wait=True)
-
-
-def apply_fixes(text: str, fixes: list) -> tuple[str, int]:
-    """`text` with as many of `fixes` applied as do not overlap (in order: a fix whose edits
-    touch an edit already taken waits for the next round), and how many were applied."""
-    taken: list[tuple[int, int, str]] = []
-
-    def clash(a: tuple[int, int], b: tuple[int, int]) -> bool:
-        if a[0] == b[0]:
-            return True  # two edits at one place: their order would be a guess
-        if a[0] < b[1] and b[0] < a[1]:
-            return True
-        # An insertion strictly inside a replacement.
-        return (a[0] == a[1] and b[0] < a[0] < b[1]) or (b[0] == b[1] and a[0] < b[0] < a[1])
-
-    applied = 0
-    for fix in fixes:
-        edits = sorted((e.span.start, e.span.end, e.new_text) for e in fix.edits)
-        if any(clash(edits[i][:2], edits[j][:2])
-               for i in range(len(edits)) for j in range(i + 1, len(edits))):
-            continue
-        if any(clash(e[:2], t[:2]) for e in edits for t in taken):
-            continue
-        taken.extend(edits)
-        applied += 1
-    for start, end, new in sorted(taken, reverse=True):
-        text = text[:start] + new + text[end:]
-    return text, applied
 
 
 MAX_FIX_ROUNDS = 10

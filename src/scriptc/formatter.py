@@ -27,7 +27,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from scriptc.diagnostics.model import Diagnostic
+from scriptc.diagnostics.edits import minimal_edit
+from scriptc.diagnostics.model import Diagnostic, TextEdit
 from scriptc.emit.printer import (
     ACTION_INDENT,
     BLOCK_INDENT,
@@ -87,11 +88,11 @@ def format_text(text: str) -> FormatResult:
     return FormatResult(out, [])
 
 
-def format_range(text: str, start: int, end: int) -> list[tuple[int, int, str]]:
-    """Edits `(start, end, new_text)` (offsets into `text`, end exclusive, in order, never
-    overlapping) that reformat the items overlapping `[start, end)`: an item is taken when
-    its text or a comment before it overlaps the range (an empty range takes the item it
-    touches). The line breaks and comments before a taken item are laid out with it.
+def format_range(text: str, start: int, end: int) -> list[TextEdit]:
+    """Edits (offsets into `text`, in order, never overlapping) that reformat the items
+    overlapping `[start, end)`: an item is taken when its text or a comment before it overlaps
+    the range (an empty range takes the item it touches). The line breaks and comments before
+    a taken item are laid out with it.
 
     Items that do not parse, and the text between items that holds a syntax error, are never
     edited; the other items are, so a selection can be formatted while another part of the
@@ -102,14 +103,13 @@ def format_range(text: str, start: int, end: int) -> list[tuple[int, int, str]]:
     end = max(start, min(end, n))
     parsed = parse_items(text)
     layout = _Layout(text, parsed.items, parsed.comments, parsed.diagnostics)
-    edits: list[tuple[int, int, str]] = []
+    edits: list[TextEdit] = []
     for region in layout.regions:
         if not region.clean or not region.touches(start, end):
             continue
-        old = text[region.start : region.end]
-        if old == region.new:
-            continue
-        edits.append(_minimal_edit(region.start, old, region.new))
+        edit = minimal_edit(text[region.start : region.end], region.new, region.start)
+        if edit is not None:
+            edits.append(edit)
     return edits
 
 
@@ -310,18 +310,6 @@ def _indent(tree: Tree) -> str:
     if kind == "name_item" and str(tree.children[0]) == "action":
         return ACTION_INDENT
     return ""
-
-
-def _minimal_edit(start: int, old: str, new: str) -> tuple[int, int, str]:
-    """One edit replacing `old` (at `start`) by `new`, without their common ends."""
-    prefix = 0
-    limit = min(len(old), len(new))
-    while prefix < limit and old[prefix] == new[prefix]:
-        prefix += 1
-    suffix = 0
-    while suffix < limit - prefix and old[-1 - suffix] == new[-1 - suffix]:
-        suffix += 1
-    return (start + prefix, start + len(old) - suffix, new[prefix : len(new) - suffix])
 
 
 # ---------------------------------------------------------------------------------------------

@@ -19,6 +19,10 @@ from pytest_lsp import ClientServerConfig, LanguageClient
 from pytest_lsp.client import DEFAULT_CLIENT_FEATURES, register_lsp_features
 from pygls.protocol import default_converter
 
+from scriptc.diagnostics import edits as edits_module
+from scriptc.diagnostics.model import TextEdit
+from scriptc.source import Span
+
 CASES = Path(__file__).parent.parent / "cases"
 SERVER_COMMAND = [sys.executable, "-m", "scriptc", "lsp"]
 TIMEOUT = 20.0
@@ -191,12 +195,10 @@ def decode(legend: lsp.SemanticTokensLegend, doc: Doc, data: list[int]) -> list[
 
 def apply_edits(text: str, doc: Doc, edits: list[lsp.TextEdit]) -> str:
     """`text` with protocol edits applied as the protocol says (insertions at one position
-    keep their order in the list)."""
-    spans = sorted(((doc.offset(e.range.start), i, doc.offset(e.range.end), e.new_text)
-                    for i, e in enumerate(edits)), reverse=True)
-    for start, _, end, new in spans:
-        text = text[:start] + new + text[end:]
-    return text
+    keep their order in the list): positions turned into offsets, then the one applier."""
+    return edits_module.apply_edits(text, [
+        TextEdit(Span(doc.offset(e.range.start), doc.offset(e.range.end)), e.new_text)
+        for e in edits])
 
 
 def run_session(messages: list[dict], capabilities: dict | None = None,

@@ -6,11 +6,12 @@ Two kinds of edit list meet here, and they obey different rules:
 - **The edits of one change** (one fix, the formatter's edits of a range, what an editor sends
   back): their author put them together, so their order means something. `apply_edits` applies
   them as the Language Server Protocol says: no two may overlap, and insertions at one offset
-  appear in the order of the list.
+  appear in the order of the list (S008's fix inserts ` LD()` then ` AO()` at one place).
 - **Independent fixes** (every safe fix of a file, for `lint --fix` and the editor's "fix
   all"): each was written without the others. `clash` is the one rule that says which cannot
   go together, and `compatible` picks, in order, the fixes that can; the others wait for the
-  next round, when the text has been analysed again.
+  next round, when the text has been analysed again. A fix whose own edits overlap is never
+  taken.
 
 The overlap rule (`clash`): two edits clash when their spans share a character, when one is an
 insertion strictly inside the other's span, or when both start at the same offset (two
@@ -41,14 +42,13 @@ def clash(a: Span, b: Span) -> bool:
 
 
 def compatible(fixes: Iterable[Fix]) -> list[Fix]:
-    """The fixes that can be applied together, in order: a fix is taken when no two of its own
-    edits clash and none clashes with an edit of a fix taken before it."""
+    """The fixes that can be applied together, in order: a fix is taken when its own edits
+    do not overlap (as one change) and none clashes with an edit of a fix taken before it."""
     taken_spans: list[Span] = []
     taken: list[Fix] = []
     for fix in fixes:
         spans = [e.span for e in fix.edits]
-        if any(clash(spans[i], spans[j])
-               for i in range(len(spans)) for j in range(i + 1, len(spans))):
+        if _overlap(spans) is not None:
             continue
         if any(clash(s, t) for s in spans for t in taken_spans):
             continue
@@ -62,13 +62,14 @@ def apply_edits(text: str, edits: Iterable[TextEdit]) -> str:
     in order of their start, an insertion before a replacement starting at the same offset,
     and insertions at one offset in the order of the list. Raises ValueError when two edits
     overlap (their order would be a guess) or an edit lies outside the text."""
-    ordered = sorted(edits, key=lambda e: (e.span.start, e.span.end))  # stable: list order
+    ordered = sorted(edits, key=_order)  # stable: insertions at one offset keep list order
+    overlap = _overlap([e.span for e in ordered])
+    if overlap is not None:
+        raise ValueError(f"overlapping edits at offset {overlap}")
     pieces: list[str] = []
     at = 0
     for edit in ordered:
         start, end = edit.span
-        if start < at:
-            raise ValueError(f"overlapping edits at offset {start}")
         if end < start or end > len(text):
             raise ValueError(f"edit {start}..{end} outside the text (length {len(text)})")
         pieces.append(text[at:start])
@@ -76,6 +77,21 @@ def apply_edits(text: str, edits: Iterable[TextEdit]) -> str:
         at = end
     pieces.append(text[at:])
     return "".join(pieces)
+
+
+def _order(edit: TextEdit) -> tuple[int, int]:
+    return edit.span.start, edit.span.end
+
+
+def _overlap(spans: list[Span]) -> int | None:
+    """Where two of the spans of one change overlap (share a character, or an insertion lies
+    strictly inside a replacement), or None."""
+    at = 0
+    for start, end in sorted(spans):
+        if start < at:
+            return start
+        at = end
+    return None
 
 
 def apply_fixes(text: str, fixes: Iterable[Fix]) -> tuple[str, int]:

@@ -8,7 +8,7 @@ safe fixes (`Fix.safe`) are marked preferred, so an editor may apply them at onc
 
 from __future__ import annotations
 
-from scriptc.diagnostics.model import TextEdit
+from scriptc.diagnostics.edits import compatible
 from scriptc.ide.answers import CodeAction
 from scriptc.ide.snapshot import Snapshot
 from scriptc.source import Span
@@ -43,27 +43,20 @@ def code_actions(snapshot: Snapshot, span: Span, only: tuple[str, ...] | None = 
 
 
 def fix_all(snapshot: Snapshot) -> CodeAction | None:
-    """Every safe fix of the document whose edits overlap no other's, as one action."""
-    edits: list[TextEdit] = []
+    """Every safe fix of the document that can go with the others (the one overlap rule of
+    `diagnostics.edits`, as `lint --fix` applies them), as one action."""
+    candidates = [d for d in snapshot.diagnostics
+                  if d.fix is not None and d.fix.safe and d.fix.edits]
+    taken = iter(compatible([d.fix for d in candidates]))
     fixed = []
-    taken: list[Span] = []
-    for d in snapshot.diagnostics:
-        if d.fix is None or not d.fix.safe or not d.fix.edits:
-            continue
-        spans = [e.span for e in d.fix.edits]
-        if any(_overlaps(s, t) for s in spans for t in taken):
-            continue
-        taken.extend(spans)
-        edits.extend(d.fix.edits)
-        fixed.append(d)
-    if not edits:
+    next_fix = next(taken, None)
+    for d in candidates:  # `compatible` keeps the order: walk both lists together
+        if d.fix is next_fix:
+            fixed.append(d)
+            next_fix = next(taken, None)
+    if not fixed:
         return None
-    edits.sort(key=lambda e: (e.span.start, e.span.end))
+    edits = sorted((e for d in fixed for e in d.fix.edits),
+                   key=lambda e: (e.span.start, e.span.end))
     title = f"Apply {len(fixed)} safe fix{'es' * (len(fixed) != 1)} (scriptc)"
     return CodeAction(title, "source.fixAll", tuple(edits), tuple(fixed), False)
-
-
-def _overlaps(a: Span, b: Span) -> bool:
-    if a.start == a.end or b.start == b.end:  # insertions clash only at the same place
-        return a.start == b.start or (b.start < a.start < b.end) or (a.start < b.start < a.end)
-    return a.start < b.end and b.start < a.end
