@@ -337,10 +337,9 @@ def _traces(script, source, scenario, profile=None) -> tuple[list[str], list[str
 
 def _run_law(script, source, scenario, entry: str) -> None:
     from scriptc.project.config import Settings
-    from scriptc.robot.profile import profile_from_settings
     from scriptc.runtime.summary import summary_json
 
-    for profile in (None, profile_from_settings(Settings())):
+    for profile in (None, Settings().robot):
         ir_trace, vm_trace, result = _traces(script, source, scenario, profile)
         _law(ir_trace == vm_trace, f"{entry}: VM = interpreter",
              next((f"{a}\n!=\n{b}" for a, b in zip(ir_trace, vm_trace) if a != b),

@@ -15,6 +15,7 @@ import json
 import os
 import subprocess
 import sys
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
@@ -23,6 +24,7 @@ from harness import CASES, expect, short_lines
 from scriptc.project.config import (ImplementationError, Resolver, Settings, build_settings,
                             find_config, load_config)
 from scriptc.project.config.tomlpos import locate
+from scriptc.robot.profile import DEFAULT_PROFILE
 from scriptc.diagnostics.model import Severity
 from scriptc.diagnostics.codes import diagnostic
 from scriptc.source import Span
@@ -79,7 +81,7 @@ def test_valid_configuration_builds_every_setting() -> None:
 
 def test_defaults() -> None:
     s = Settings()
-    assert s.select == ("ALL",) and s.robot.max_linear_speed is None and s.functions == ()
+    assert s.select == ("ALL",) and s.robot is DEFAULT_PROFILE and s.functions == ()
     from scriptc.ir.builtins import STANDARD
 
     assert s.registry is STANDARD
@@ -91,8 +93,7 @@ def test_wrong_values_are_left_at_their_defaults() -> None:
     assert s.audio_root == "../elsewhere"  # reported (C002); the path is still what was said
     assert s.exclude == () and s.respect_gitignore is True and s.select == ()
     assert s.per_file_ignores == () and s.severity == ()
-    assert s.robot.max_linear_speed is None and s.robot.max_volume is None
-    assert s.robot.min_human_distance is None and s.robot.max_led_flash_rate is None
+    assert s.robot is DEFAULT_PROFILE  # every limit rejected keeps its default
     assert s.functions == ()  # each declaration is wrong somewhere
     assert [r.implementation for r in s.rules] == ["rules:greet"]  # the first of the two
 
@@ -102,12 +103,11 @@ def test_numbers_the_policy_refuses_are_left_at_their_defaults() -> None:
     made building the settings overflow."""
     loaded = load_config(str(CONFIG_CASES / "non_finite_numbers.toml"))
     robot = loaded.settings.robot
-    assert (robot.max_linear_speed, robot.min_human_distance, robot.max_angular_speed,
-            robot.max_volume, robot.max_linear_acceleration) == (None,) * 5
-    assert robot.max_angular_acceleration == 2.5
+    assert robot == replace(DEFAULT_PROFILE, max_angular_acceleration=2.5,
+                            source=robot.source)  # the others keep their defaults
     huge = load_config(str(CONFIG_CASES / "huge_integer.toml"))
     assert [d.code for d in huge.diagnostics] == ["C002"]
-    assert huge.settings.robot.max_volume is None  # tomllib read nothing: the defaults
+    assert huge.settings.robot is DEFAULT_PROFILE  # tomllib read nothing: the defaults
 
 
 def test_a_pyproject_with_an_unreadable_integer_is_still_ours(tmp_path: Path) -> None:

@@ -34,26 +34,105 @@ CANDIDATES = st.one_of(
 def _grammar_terminals():
     from scriptc.syntax.parser import script_lark
 
-    return {t.name: t for t in script_lark().terminals}
+    return {t.name.rsplit("__", 1)[-1]: t for t in script_lark().terminals}
 
 
-def test_name_and_number_are_the_grammars_terminals() -> None:
-    """language.py reads the terminals from the grammar file; lark reads the same."""
+def _same_language(ours: str, theirs: str, samples) -> None:
+    for text in samples:
+        assert (re.fullmatch(ours, text) is None) == (re.fullmatch(theirs, text) is None), text
+
+
+# Texts near every terminal's edges: signs, dots, exponents, quotes, escapes, line breaks.
+EDGES = st.text(alphabet='aZ_-09+.eE"\\%\n\r ?#@$OP=<>&', max_size=10)
+
+
+def test_the_patterns_are_the_grammars_terminals() -> None:
+    """language.py reads the terminals from the grammar files; lark reads the same (its
+    groups made non-capturing, which changes no match)."""
     terminals = _grammar_terminals()
-    name = next(t for n, t in terminals.items() if n.endswith("NAME"))
-    number = next(t for n, t in terminals.items() if n.endswith("NUMBER"))
-    assert name.pattern.to_regexp() == language.NAME_PATTERN
-    assert number.pattern.to_regexp() == language.NUMBER_PATTERN
+    assert terminals["NAME"].pattern.to_regexp() == language.NAME_PATTERN
+    assert re.compile(language.NUMBER_PATTERN).groups == 0
+    assert re.compile(language.STRING_PATTERN).groups == 0
+    for terminal, ours in (("NUMBER", language.NUMBER_PATTERN),
+                           ("STRING", language.STRING_PATTERN),
+                           ("COMMENT", language.COMMENT_PATTERN),
+                           ("OPERATOR", language.OPERATOR_PATTERN),
+                           *((t, language.sigiled(t)) for t in language.SIGILS)):
+        theirs = terminals[terminal].pattern.to_regexp()
+        _same_language(ours, theirs, ["1", "-.5", "1e", "+1.E-3", "..", '"a\\"', '"a\\\nb"',
+                                      '"a\rb"', '"\\q"', "%a\n%", "%%", "OP=", "OP!", "?a",
+                                      "#b-2", "@_", "$9", "?THIS"])
+        FAST(given(EDGES)(lambda text: _same_language(ours, theirs, [text])))()
+    for terminal, literal in (("THIS", language.THIS), ("FIELD_ACCESS", language.FIELD_ACCESS),
+                              ("ATT_ACCESS", language.ATT_ACCESS)):
+        assert terminals[terminal].pattern.value == literal
+    assert language.RULE_MESSAGES == (terminals["ALFA"].pattern.value,
+                                      terminals["OMEGA"].pattern.value)
+    assert language.TRACKS == tuple(terminals[t].pattern.value for t in ("MV", "LD", "AO"))
 
 
-def test_the_schemas_name_and_number_patterns_are_the_languages() -> None:
-    thesis = json.loads(schema_path("thesis-script.schema.json").read_text(encoding="utf-8"))
-    config = json.loads(schema_path("config.schema.json").read_text(encoding="utf-8"))
-    assert thesis["$defs"]["name"]["pattern"] == f"^{language.NAME_PATTERN}$"
-    assert config["$defs"]["name"]["pattern"] == f"^{language.NAME_PATTERN}$"
-    numbers = [d["pattern"] for d in thesis["$defs"].values()
-               if isinstance(d, dict) and "[eE]" in d.get("pattern", "")]
-    assert numbers == [f"^{language.NUMBER_PATTERN}$"]
+def test_the_name_is_split_into_its_classes() -> None:
+    assert language.NAME_PATTERN == language.NAME_START + language.NAME_CHAR + "*"
+    assert all(re.fullmatch(language.NAME_CHAR, c) for c in language.NAME_CHARS)
+    assert {chr(c) for c in range(0x3000) if re.fullmatch(language.NAME_CHAR, chr(c))} == \
+        language.NAME_CHARS  # ASCII only: `é` and `٣` are not name characters
+    assert language.NAME_CHARS == set("abcdefghijklmnopqrstuvwxyz"
+                                      "ABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-")
+
+
+def test_every_word_of_the_grammar_is_in_one_group() -> None:
+    """A keyword the grammar gains must be given its place here (and so in the editor's
+    grammar, completion and tokens, which read these groups)."""
+    literals = {str(t.pattern.value) for t in _grammar_terminals().values()
+                if type(t.pattern).__name__ == "PatternStr"}
+    assert language.GRAMMAR_WORDS == {w for w in literals if language.is_name(w)}
+    groups = [set(language.ITEM_KEYWORDS) | {"b"}, set(language.BLOCK_KINDS),
+              set(language.TRACKS), set(language.JUMP_WORDS), set(language.ASSIGNMENTS),
+              {language.TRUE}, set(language.FUNCTION_KINDS)]
+    assert sum(len(g) for g in groups) == len(set().union(*groups))  # disjoint
+    assert set().union(*groups) - {"action"} == language.GRAMMAR_WORDS
+    assert set(language.RULE_MESSAGES) <= set(language.ITEM_KEYWORDS)
+    assert language.ITEM_WORDS == set(language.ITEM_KEYWORDS) | {"b"}
+
+
+def test_the_comparisons_are_the_operator_terminals() -> None:
+    theirs = _grammar_terminals()["OPERATOR"].pattern.to_regexp()
+    written = {f"OP{chr(c)}" for c in range(33, 127) if re.fullmatch(theirs, f"OP{chr(c)}")}
+    assert written == set(language.OPERATORS) == {"OP=", "OP<", "OP>"}
+
+
+def test_the_letters() -> None:
+    assert "".join(language.RULE_ACTIONS) == "ARDBC"
+    assert "".join(language.MUTEXES) == "LMU"
+    assert "".join(language.SCOPES) == "ULT"
+    assert "".join(language.FUNCTION_KINDS) == "BFE"
+
+
+@FAST
+@given(st.text(max_size=12))
+@example('a"b\\c')
+@example("\\q")
+def test_quote_and_unescape_are_inverse(value: str) -> None:
+    quoted = language.quote(value)
+    assert language.unescape(quoted[1:-1]) == value
+    assert (re.fullmatch(language.STRING_PATTERN, quoted) is not None) == (
+        "\n" not in value and "\r" not in value)
+
+
+def test_unescape_keeps_unknown_escapes() -> None:
+    assert language.unescape('a\\qb\\"c\\\\') == 'a\\qb"c\\'
+
+
+@FAST
+@given(st.text(max_size=10))
+@example("9lives")
+@example("")
+@example("wave hands")
+def test_to_name_gives_a_name(text: str) -> None:
+    name = language.to_name(text)
+    assert language.is_name(name)
+    if language.is_name(text):
+        assert name == text
 
 
 def _is_activity_name_in_scripts(word: str) -> bool:

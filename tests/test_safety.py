@@ -8,9 +8,9 @@ import pytest
 from scriptc.check import check_script
 from scriptc.check.context import Context
 from scriptc.check.safety import check_safety
-from scriptc.project.config import RobotProfile, Settings
+from scriptc.project.config import Settings, build_settings
 from scriptc.driver import analyze_bytes
-from scriptc.robot.profile import DEFAULT_PROFILE, Profile, profile_from_settings
+from scriptc.robot.profile import DEFAULT_PROFILE, Profile
 
 
 def block(mv: str = "", ld: str = "") -> str:
@@ -34,11 +34,12 @@ def test_defaults_are_safe_and_complete() -> None:
 
 
 def test_the_configuration_overrides_the_defaults_key_by_key() -> None:
-    settings = Settings(path="/repo/scriptc.toml", robot=RobotProfile(max_linear_speed=1.2))
-    p = profile_from_settings(settings)
+    settings = build_settings({"robot": {"max-linear-speed": 1.2}}, path="/repo/scriptc.toml")
+    p = settings.robot
     assert p.max_linear_speed == 1.2 and p.source == "/repo/scriptc.toml"
     assert p.max_angular_speed == DEFAULT_PROFILE.max_angular_speed
-    assert profile_from_settings(Settings()) is DEFAULT_PROFILE
+    assert Settings().robot is DEFAULT_PROFILE
+    assert build_settings({"robot": {}}, path="/repo/scriptc.toml").robot is DEFAULT_PROFILE
 
 
 @pytest.mark.parametrize("mv, expected", [

@@ -16,7 +16,6 @@ from scriptc.diagnostics.edits import apply_fixes
 from scriptc.diagnostics.model import Diagnostic, has_errors
 from scriptc.analysis.finish import finish
 from scriptc.gcpause import gc_paused
-from scriptc.robot.profile import profile_from_settings
 from scriptc.ir.builtins import STANDARD, FunctionRegistry
 from scriptc.ir.nodes import Script
 from scriptc.paths import shown_path
@@ -647,7 +646,7 @@ def lint_paths(paths: list[str] | tuple[str, ...], kind: str = "script", *,
 
     tasks = [(entries[i][1], entries[i][2], kind,
               tuple(f.signature for f in entries[i][3].functions),
-              profile_from_settings(entries[i][3])) for i in missing]
+              entries[i][3].robot) for i in missing]
     _analyze_all(tasks, options.jobs or available_cores(), done)
 
     reports: list[FileReport] = []
@@ -683,7 +682,7 @@ def _fix_file(report: FileReport, data: bytes, kind: str, settings, cache, *,
     source, diagnostics = report.source, report.diagnostics
     text = source.text
     functions = tuple(f.signature for f in settings.functions)
-    profile = profile_from_settings(settings)
+    profile = settings.robot
     fixed = 0
     for _round in range(MAX_FIX_ROUNDS):
         fixes = [d.fix for d in diagnostics if d.fix is not None and (unsafe or d.fix.safe)]

@@ -12,7 +12,6 @@ import click
 
 from scriptc import driver, interrupt, writing
 from scriptc.paths import shown_path
-from scriptc.robot.profile import profile_from_settings
 from scriptc.diagnostics.render import FORMATS, render
 
 
@@ -71,11 +70,11 @@ def load(path: str, kind: str, stdin_name: str = "<stdin>") -> driver.Analysis:
     try:
         if path == "-":
             analysis = driver.analyze_bytes(shown_path(stdin_name), read_stdin(), kind,
-                                            settings.registry, profile_from_settings(settings))
+                                            settings.registry, settings.robot)
         else:
             analysis = driver.analyze_file(path, kind, name=shown_path(path),
                                            functions=settings.registry,
-                                           profile=profile_from_settings(settings))
+                                           profile=settings.robot)
     except driver.ReadError as exc:
         raise CliError(str(exc)) from None
     analysis.diagnostics = settings.apply(analysis.diagnostics,

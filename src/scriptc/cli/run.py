@@ -23,7 +23,6 @@ import os
 import click
 
 from scriptc import driver, interrupt
-from scriptc.robot.profile import profile_from_settings
 from scriptc.cli.common import CliError, check_output, load, show, write, write_bytes, write_output
 
 DEFAULT_LIMIT_MS = 3_600_000
@@ -106,7 +105,7 @@ def _loader(path: str, executor: str = "vm"):
     try:
         settings, problems = driver.settings_for(path)
         analysis = driver.analyze_file(path, kind, functions=settings.registry,
-                                       profile=profile_from_settings(settings))
+                                       profile=settings.robot)
     except driver.ReadError as exc:
         raise LoadError(str(exc)) from None
     if driver.configuration_failed(problems):
@@ -201,7 +200,7 @@ def command(ctx: click.Context, files: tuple[str, ...], world: str | None, until
     trace = Trace(enabled=trace_path is not None or plot_path is not None)
     if governor is None:
         governor = robot != "kinematic"
-    profile = profile_from_settings(settings) if governor else None
+    profile = settings.robot if governor else None
     try:
         robot_backend = make_robot(robot)
     except Exception as exc:  # noqa: BLE001 - a backend that cannot start (mujoco missing)

@@ -398,11 +398,10 @@ def _configured(uri: str, text: str, version: int | None) -> Document:
     for report in reports:
         for d in report.diagnostics:
             log.warning("%s: %s[%s] %s", report.path, d.severity.value, d.code, d.message)
-    from scriptc.robot.profile import profile_from_settings
 
     return Document(uri, text, version, path=path, functions=settings.registry,
                     policy=lambda diagnostics: settings.apply(diagnostics, path),
-                    profile=profile_from_settings(settings))
+                    profile=settings.robot)
 
 
 @SERVER.feature(lsp.TEXT_DOCUMENT_DID_OPEN)

@@ -19,11 +19,11 @@ from __future__ import annotations
 
 from scriptc.project.config.load import (ConfigFile, Resolver, build_settings, find_config, load_config,
                                          project_root)
-from scriptc.project.config.settings import (ImplementationError, RobotProfile, RuleSelection, Settings,
-                                  UserFunction, UserRule, import_implementation)
+from scriptc.project.config.settings import (ImplementationError, RuleSelection, Settings,
+                                             UserFunction, UserRule, import_implementation)
 
 __all__ = [
-    "ConfigFile", "ImplementationError", "Resolver", "RobotProfile", "RuleSelection", "Settings",
+    "ConfigFile", "ImplementationError", "Resolver", "RuleSelection", "Settings",
     "UserFunction", "UserRule", "build_settings", "find_config", "import_implementation",
     "load_config", "project_root",
 ]

@@ -12,7 +12,8 @@ from typing import Any
 
 from scriptc.project.config.load import Resolver, project_root
 from scriptc.paths import shown_path
-from scriptc.project.config.settings import ROBOT_KEYS, Settings
+from scriptc.project.config.settings import Settings
+from scriptc.robot.limits import LIMITS
 from scriptc.diagnostics.model import Diagnostic, Severity
 
 
@@ -57,9 +58,7 @@ class SettingsReport:
 
 def _values(settings: Settings) -> list[tuple[tuple[str, ...], Any]]:
     """(key path, value in force) of every setting, in the order docs/configuration.md has."""
-    from scriptc.robot.profile import profile_from_settings
-
-    profile = profile_from_settings(settings)
+    limits = settings.robot.limits()
     rows: list[tuple[tuple[str, ...], Any]] = [
         (("audio-root",), settings.audio_root),
         (("exclude",), list(settings.exclude)),
@@ -70,7 +69,7 @@ def _values(settings: Settings) -> list[tuple[tuple[str, ...], Any]]:
                                         for pattern, codes in settings.per_file_ignores}),
         (("lint", "severity"), dict(settings.severity)),
     ]
-    rows += [(("robot", key), getattr(profile, key.replace("-", "_"))) for key in ROBOT_KEYS]
+    rows += [(("robot", limit.key), limits[limit.field]) for limit in LIMITS]
     rows.append((("functions",), [{"name": f.name, "kind": f.kind, "arity": f.arity,
                                    "implementation": f.implementation}
                                   for f in settings.functions]))

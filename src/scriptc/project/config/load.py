@@ -18,22 +18,19 @@ import re
 import sys
 from typing import Any, NamedTuple
 
-from scriptc.project.config.settings import (ALL, ROBOT_KEYS, SEVERITIES, RobotProfile, RuleSelection,
-                                  Settings, UserFunction, UserRule)
+from scriptc.project.config.settings import (ALL, SEVERITIES, RuleSelection, Settings, UserFunction,
+                                             UserRule)
 from scriptc.diagnostics.model import Diagnostic
 from scriptc.diagnostics.codes import diagnostic
 from scriptc.language import is_name
 from scriptc.numbers import MAX_DIGITS, number_problem
 from scriptc.paths import shown_path
+from scriptc.robot.limits import LIMITS
+from scriptc.robot.profile import Profile
 from scriptc.source import SourceFile, Span
 
 CONFIG_FILES = ("scriptc.toml", "pyproject.toml")
 # Patterns are compiled on first use (`re` caches them): most runs never need them.
-# The lowest value of each `[robot]` key, and whether it is allowed (the schema's `minimum` or
-# `exclusiveMinimum`, schemas/config.schema.json; the validation reports values outside, these
-# keep them out of the profile). The others: greater than 0.
-_ROBOT_MINIMUM = {"min-human-distance": (0, True), "max-led-flash-rate": (1, True)}
-
 _TOOL_TABLE = r"^[ \t]*\[[ \t]*tool[ \t]*\.[ \t]*[\"']?scriptc\b"
 _TOML_POSITION = r"\(at line (\d+), column (\d+)\)$"
 
@@ -287,14 +284,14 @@ def build_settings(table: dict[str, Any], *, path: str | None = None, root: str 
     severity = tuple((k, v) for k, v in sev.items()
                      if isinstance(v, str) and v in SEVERITIES) if isinstance(sev, dict) else ()
 
+    # A limit outside its range was reported by the checks (the schema's ranges are the
+    # table's): like a missing one, it keeps its default (robot/limits.py).
     robot_table = table.get("robot") if isinstance(table.get("robot"), dict) else {}
-    limits = {}
-    for key in ROBOT_KEYS:
-        value = _number(robot_table.get(key))
-        low, inclusive = _ROBOT_MINIMUM.get(key, (0, False))
-        bounded = value is not None and value == value and (
-            value >= low if inclusive else value > low) and (key != "max-volume" or value <= 1)
-        limits[key.replace("-", "_")] = value if bounded else None
+    given = {}
+    for limit in LIMITS:
+        value = _number(robot_table.get(limit.key))
+        if value is not None and limit.accepts(value):
+            given[limit.key] = value
 
     functions: list[UserFunction] = []
     for item in table.get("functions", ()) if isinstance(table.get("functions"), list) else ():
@@ -343,7 +340,7 @@ def build_settings(table: dict[str, Any], *, path: str | None = None, root: str 
         exclude=_strings(table.get("exclude")),
         respect_gitignore=respect if isinstance(respect, bool) else True,
         audio_root=audio if isinstance(audio, str) and audio else ".",
-        robot=RobotProfile(**limits),
+        robot=Profile.given(given, source=path or "config"),
         functions=tuple(functions),
         rules=tuple(rules),
     )

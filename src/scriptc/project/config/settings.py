@@ -18,6 +18,7 @@ from typing import Any, NamedTuple
 
 from scriptc.diagnostics.model import Diagnostic, Severity
 from scriptc.ir.builtins import STANDARD, Function, FunctionRegistry, Param
+from scriptc.robot.profile import DEFAULT_PROFILE, Profile
 
 ALL = "ALL"
 SEVERITIES = {"error": Severity.ERROR, "warning": Severity.WARNING, "info": Severity.INFO}
@@ -90,26 +91,6 @@ class RuleSelection(NamedTuple):
 
 # ---------------------------------------------------------------------------------------------
 # The parts of a configuration
-
-
-class RobotProfile(NamedTuple):
-    """The limits of the robot (all optional: None is not checked). Units: m/s, rad/s, m/s²,
-    rad/s², m, flashes per second, a fraction of full volume."""
-
-    max_linear_speed: float | None = None
-    max_angular_speed: float | None = None
-    max_linear_acceleration: float | None = None
-    max_angular_acceleration: float | None = None
-    min_human_distance: float | None = None
-    max_led_flash_rate: float | None = None
-    max_volume: float | None = None
-
-
-# The TOML keys of the robot profile, in the order the documentation lists them (each is the
-# attribute's name with `-` for `_`).
-ROBOT_KEYS = ("max-linear-speed", "max-angular-speed", "max-linear-acceleration",
-              "max-angular-acceleration", "min-human-distance", "max-led-flash-rate",
-              "max-volume")
 
 
 class ImplementationError(Exception):
@@ -187,7 +168,9 @@ class Settings:
     """One configuration, read and checked. `Settings()` is the default (no file).
 
     `path` is the configuration file (None for the default), `root` the folder its paths are
-    relative to, `digest` a hash of its bytes (part of the cache key of every result). A plain
+    relative to, `digest` a hash of its bytes (part of the cache key of every result), `robot`
+    the robot profile (`[robot]` over the defaults: what the safety checks and the governor
+    keep). A plain
     class rather than a dataclass: `scriptc lint` imports it on every run, and generating a
     dataclass's methods costs milliseconds of cold start. Treat it as immutable.
     """
@@ -201,7 +184,7 @@ class Settings:
                  per_file_ignores: tuple[tuple[str, tuple[str, ...]], ...] = (),
                  severity: tuple[tuple[str, str], ...] = (), exclude: tuple[str, ...] = (),
                  respect_gitignore: bool = True, audio_root: str = ".",
-                 robot: RobotProfile = RobotProfile(), functions: tuple[UserFunction, ...] = (),
+                 robot: Profile = DEFAULT_PROFILE, functions: tuple[UserFunction, ...] = (),
                  rules: tuple[UserRule, ...] = (),
                  selection: RuleSelection | None = None) -> None:
         self.path = path
