@@ -21,7 +21,7 @@ from pathlib import Path
 from scriptc.diagnostics.model import Diagnostic
 from scriptc.source import SourceFile
 
-CASES = Path(__file__).parent / "cases"
+CASES = Path(__file__).parent.parent / "cases"
 UPDATE = os.environ.get("UPDATE_EXPECT") == "1"
 
 
