@@ -80,11 +80,26 @@ def test_layout_of_a_minimal_script() -> None:
     )
 
 
-def test_every_line_is_one_element() -> None:
-    out = (DATA / "script_gen_test_act.json").read_text(encoding="utf-8")
+@pytest.mark.parametrize("name", ["features.script", "test_act.script", "dance_example.script"])
+def test_every_line_is_one_element(name: str) -> None:
+    """ScriptGen's layout, as the emitter writes it: no indentation, and each line one element:
+    a bracket, a key with a scalar, a key opening an object or a list, or one string of a list."""
+    out = compile_text((EMIT_CASES / name).read_text(encoding="utf-8"))
     for line in out.splitlines():
-        assert line == line.strip()
-        assert line in ("{", "}", "]", "},", "],") or line.startswith('"')
+        assert line == line.strip(), line
+        if line in ("{", "}", "]", "},", "],"):
+            continue
+        element = line.removesuffix(",")
+        if element.endswith(("{", "[")):
+            json.loads("{" + element[:-1] + "0}")  # one key, then the bracket
+            continue
+        try:
+            value = json.loads(element)
+        except json.JSONDecodeError:  # not a value alone: a key and its value
+            (value,) = json.loads("{" + element + "}").values()
+            assert not isinstance(value, (dict, list)), line
+        else:
+            assert isinstance(value, str), line
 
 
 def test_key_order_and_value_types() -> None:
