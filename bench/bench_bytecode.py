@@ -20,7 +20,8 @@ sys.path.insert(0, str(Path(__file__).parent))
 from generate import big_script  # noqa: E402
 
 from scriptc.bytecode import decode, disassemble, encode, verify  # noqa: E402
-from scriptc.driver import analyze_script, emit  # noqa: E402
+from scriptc.analysis.analyze import analyze_script  # noqa: E402
+from scriptc.ops.build import emit  # noqa: E402
 from scriptc.emit.codegen import codegen  # noqa: E402
 from scriptc.gcpause import gc_paused  # noqa: E402
 from scriptc.source import SourceFile  # noqa: E402
@@ -47,7 +48,7 @@ def main() -> None:
     script = analysis.script
 
     def gen():
-        with gc_paused():  # as the driver runs back ends
+        with gc_paused():  # as `scriptc.ops.build.emit` runs back ends
             return codegen(script, source)
 
     t_codegen, program = best(gen, args.runs)

@@ -1,5 +1,5 @@
 """Compile speed: a generated ~1 MB script (10,000 blocks, half of them jumps with conditions)
-end to end (scan, parse, lower, check, emit JSON: the driver's functions that `scriptc compile` calls), beside lark's raw parse of the same
+end to end (scan, parse, lower, check, emit JSON: the library functions that `scriptc compile` calls), beside lark's raw parse of the same
 items, and the growth from 0.1 MB to 1 MB (10x the input should cost at most ~11x the time).
 
     python bench/bench_compile.py [--runs N]
@@ -18,7 +18,8 @@ sys.path.insert(0, str(Path(__file__).parent))
 
 from generate import big_script  # noqa: E402
 
-from scriptc.driver import analyze_script, emit  # noqa: E402
+from scriptc.analysis.analyze import analyze_script  # noqa: E402
+from scriptc.ops.build import emit  # noqa: E402
 from scriptc.source import SourceFile  # noqa: E402
 from scriptc.syntax.parser import script_lark  # noqa: E402
 from scriptc.syntax.scan import scan  # noqa: E402

@@ -85,7 +85,7 @@ def where_the_time_goes(root: Path, sample: int) -> None:
     """One process, a sample of the files: front end, checks, the rest (reading, hashing,
     suppressions, the policy), per file."""
     from scriptc.check import check_script
-    from scriptc.driver import decode_source
+    from scriptc.analysis.read import decode_source
     from scriptc.gcpause import gc_paused
     from scriptc.frontend.script import lower_script
 

@@ -70,7 +70,7 @@ def main() -> None:
               f"(outcome {summary['outcome']} at {summary['time_ms']} ms)")
 
         # In process: the same run without process start, and the bare stepping.
-        from scriptc.driver import analyze_file
+        from scriptc.analysis.analyze import analyze_file
         from scriptc.robot.profile import DEFAULT_PROFILE
         from scriptc.runtime.interp import IRProgram
         from scriptc.runtime.robots.mujoco import MujocoRobot, load_model

@@ -20,7 +20,7 @@ from __future__ import annotations
 import argparse
 import time
 
-from scriptc.driver import analyze_bytes
+from scriptc.analysis.analyze import analyze_bytes
 from scriptc.frontend.script import parse_condition
 from scriptc.runtime.bindings import READER, Bindings
 from scriptc.runtime.evaluate import EvalContext, evaluate

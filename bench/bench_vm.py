@@ -23,7 +23,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from bench_run import MINUTES, activity_text, best, scenario  # noqa: E402
 
 from scriptc import bytecode  # noqa: E402
-from scriptc.driver import analyze_bytes, emit  # noqa: E402
+from scriptc.analysis.analyze import analyze_bytes  # noqa: E402
+from scriptc.ops.build import emit  # noqa: E402
 from scriptc.runtime.bindings import Bindings  # noqa: E402
 from scriptc.runtime.evaluate import EvalContext  # noqa: E402
 from scriptc.runtime.functions import STANDARD_IMPLEMENTATIONS  # noqa: E402

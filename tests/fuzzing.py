@@ -225,7 +225,7 @@ def _render_all(source, diagnostics, entry: str) -> None:
 
 
 def _analysis(data: bytes, kind: str = "script"):
-    from scriptc.driver import analyze_bytes
+    from scriptc.analysis.analyze import analyze_bytes
 
     analysis = analyze_bytes(f"fuzz.{'script' if kind == 'script' else 'json'}", data, kind)
     entry = "lint" if kind == "script" else "check"
@@ -234,7 +234,7 @@ def _analysis(data: bytes, kind: str = "script"):
 
 
 def _compiled(text: str) -> str | None:
-    from scriptc.driver import analyze_script
+    from scriptc.analysis.analyze import analyze_script
     from scriptc.emit.json import emit_json
     from scriptc.source import SourceFile
 
@@ -253,7 +253,7 @@ def lint(data: bytes) -> None:
 
 def compile_(data: bytes) -> None:
     from scriptc import bytecode
-    from scriptc.driver import emit
+    from scriptc.ops.build import emit
     from scriptc.emit.script import format_script
     from scriptc.frontend.thesis_json import script_from_json
     from scriptc.source import SourceFile
@@ -291,7 +291,8 @@ def fmt(data: bytes) -> None:
 
 def fix(data: bytes) -> None:
     from scriptc.diagnostics.edits import apply_fixes
-    from scriptc.driver import MAX_FIX_ROUNDS, analyze_script
+    from scriptc.ops.lint import MAX_FIX_ROUNDS
+    from scriptc.analysis.analyze import analyze_script
     from scriptc.source import SourceFile
 
     analysis = _analysis(data)
@@ -318,7 +319,7 @@ UNTIL = 1500  # ms of simulated time: long enough for the examples' first blocks
 
 def _traces(script, source, scenario, profile=None) -> tuple[list[str], list[str], object]:
     from scriptc import bytecode
-    from scriptc.driver import emit
+    from scriptc.ops.build import emit
     from scriptc.runtime.interp import IRProgram
     from scriptc.runtime.session import Session
     from scriptc.runtime.trace import Trace
@@ -382,7 +383,7 @@ _SCENARIO_SCRIPT = EXAMPLES / "approach.script"
 
 
 def scenario(data: bytes) -> None:
-    from scriptc.driver import analyze_file
+    from scriptc.analysis.analyze import analyze_file
     from scriptc.runtime.scenario import ScenarioError, scenario_from_text
     from scriptc.source import SourceFile
 
@@ -405,6 +406,7 @@ def scenario(data: bytes) -> None:
 
 def config(data: bytes) -> None:
     from scriptc.project.config import load_config
+    from scriptc.project.setup import Setup
     from scriptc.runtime.functions import STANDARD_IMPLEMENTATIONS
 
     with tempfile.TemporaryDirectory() as folder:
@@ -421,7 +423,7 @@ def config(data: bytes) -> None:
         except ValueError as exc:
             raise LawBroken("config: what the configuration accepts, the run time registers",
                             str(exc)) from None
-    loaded.settings.registry  # noqa: B018 - building it must not raise
+    Setup(loaded.settings)  # building the setup (the registry, the profile) must not raise
 
 
 # Text an editor types: tokens of both grammars, line ends, non-ASCII (two-unit emoji too),
@@ -442,7 +444,7 @@ def editor(data: bytes) -> None:
     import random
     import zlib
 
-    from scriptc.driver import analyze_script
+    from scriptc.analysis.analyze import analyze_script
     from scriptc.ide.document import Document
     from scriptc.source import SourceFile, Span
 

@@ -28,7 +28,8 @@ from scriptc.api import (
 )
 from scriptc.bytecode.decode import decode
 from scriptc.cli.main import cli
-from scriptc.driver import analyze_script, emit
+from scriptc.analysis.analyze import analyze_script
+from scriptc.ops.build import emit
 from scriptc.source import SourceFile
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -85,7 +86,7 @@ def test_a_clean_build_gives_json_and_bytecode():
     assert blk0["move"][0] == {"v_x": "0.2", "v_y": "0", "v_theta": "0", "wait_t": 0,
                                "duration": 1000}
     assert data["goal0"]["act0"]["blk1"]["truejump"] == "goal0/act0/blk0"
-    # The same outputs as the driver's on the same text.
+    # The same outputs as `scriptc compile`'s on the same text.
     analysis = analyze_script(SourceFile("dance.script", built.script_text))
     assert built.json() == emit(analysis.script, "json")
     code = built.bytecode()
@@ -283,7 +284,7 @@ def test_a_filled_template_with_errors_reports_them():
         built.json()
 
 
-def test_build_text_equals_the_driver():
+def test_build_text_equals_the_library():
     text = (DATA.parent.parent / "examples" / "test_act.script").read_text(encoding="utf-8")
     built = build_text(text, "test_act.script")
     analysis = analyze_script(SourceFile("test_act.script", text))

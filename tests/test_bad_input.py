@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from scriptc.driver import analyze_script
+from scriptc.analysis.analyze import analyze_script
 from scriptc.frontend.script import parse_condition
 from scriptc.source import SourceFile
 

@@ -26,7 +26,8 @@ from scriptc.bytecode import (
 from scriptc.bytecode.code import Assembler, Label, instructions
 from scriptc.bytecode.opcodes import BY_NAME, MAX_STACK, OPCODES
 from scriptc.bytecode.program import Action, Block, CodeSpan, Goal, Num, Program
-from scriptc.driver import analyze_file, analyze_script, emit
+from scriptc.analysis.analyze import analyze_file, analyze_script
+from scriptc.ops.build import emit
 from scriptc.emit.codegen import CodegenError, codegen
 from scriptc.source import SourceFile, Span
 
@@ -133,7 +134,7 @@ def test_positions_without_the_source() -> None:
     assert full.position(full.blocks[0].span.start) == (first.line, first.column)
     assert bare.position(0) is None
     assert "@" in disassemble(load(encode(bare))).splitlines()[4]
-    # The driver's back end: with the source, the file carries lines.
+    # The back end of `compile --emit bytecode`: with the source, the file carries lines.
     assert decode(emit(analysis.script, "bytecode", analysis.source)) == full
     assert decode(emit(analysis.script, "bytecode")) == bare
 

@@ -15,7 +15,7 @@ from click.testing import CliRunner
 
 from scriptc.bytecode import decode, disassemble, load
 from scriptc.cli.main import cli
-from scriptc.driver import analyze_file
+from scriptc.analysis.analyze import analyze_file
 from scriptc.emit.codegen import codegen
 
 ROOT = Path(__file__).parent.parent

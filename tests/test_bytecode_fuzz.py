@@ -20,7 +20,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from scriptc.bytecode import BytecodeError, decode, disassemble, encode, load
-from scriptc.driver import analyze_script
+from scriptc.analysis.analyze import analyze_script
 from scriptc.emit.codegen import codegen
 from scriptc.source import SourceFile
 from strategies import scripts

@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from harness import CASES, case_files, expect, short_lines
-from scriptc.driver import analyze_bytes
+from scriptc.analysis.analyze import analyze_bytes
 
 SCRIPTS = case_files(".script")
 SCRIPTS = [p for p in SCRIPTS if not p.name.endswith(".out.script")]
@@ -15,7 +15,8 @@ JSONS = case_files(".json")
 
 
 def _analyze(path: Path, kind: str):
-    """Through the driver's byte decoding, as the CLI reads files (so P007 has cases)."""
+    """Through the byte decoding of `scriptc.analysis.read`, as the CLI reads files (so P007
+    has cases)."""
     return analyze_bytes(str(path.relative_to(CASES)), path.read_bytes(), kind)
 
 

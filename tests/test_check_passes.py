@@ -10,7 +10,7 @@ import sys
 from scriptc.check import Context, check_script
 from scriptc.diagnostics import edits
 from scriptc.diagnostics.model import Severity
-from scriptc.driver import analyze_script
+from scriptc.analysis.analyze import analyze_script
 from scriptc.ir.builtins import STANDARD, Function, Param
 from scriptc.source import SourceFile
 

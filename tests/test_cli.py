@@ -82,7 +82,7 @@ def test_an_internal_error_is_reported_without_a_traceback(files: Path, monkeypa
     def broken(*args, **kwargs):
         raise RuntimeError("the checks fell over")
 
-    monkeypatch.setattr("scriptc.driver.analyze_script", broken)
+    monkeypatch.setattr("scriptc.analysis.analyze.analyze_script", broken)
     result = run("lint", "clean.script")
     assert result.exit_code == 2
     assert result.stderr.startswith("error: internal error: RuntimeError: the checks fell over\n")
@@ -94,7 +94,7 @@ def test_an_interrupt_exits_130_quietly(files: Path, monkeypatch) -> None:
     def interrupted(*args, **kwargs):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr("scriptc.driver.analyze_script", interrupted)
+    monkeypatch.setattr("scriptc.analysis.analyze.analyze_script", interrupted)
     result = run("compile", "clean.script")
     assert (result.exit_code, result.stderr) == (130, "error: interrupted\n")
     # lint says how far it got.
@@ -220,7 +220,7 @@ def test_lint_permission_denied_is_a_clear_error(files: Path, monkeypatch) -> No
     def refuse(path, mode="r", *args, **kwargs):
         raise PermissionError(13, "Permission denied", str(path))
 
-    monkeypatch.setattr("scriptc.driver.open", refuse, raising=False)
+    monkeypatch.setattr("scriptc.analysis.read.open", refuse, raising=False)
     result = run("lint", "clean.script")
     assert result.exit_code == 2
     assert result.stderr == "error: cannot read `clean.script`: permission denied\n"
@@ -357,7 +357,7 @@ def test_compile_writes_beside_the_input(files: Path) -> None:
 
 
 def test_compile_output_is_exactly_the_emitted_text(files: Path) -> None:
-    from scriptc.driver import analyze_script
+    from scriptc.analysis.analyze import analyze_script
     from scriptc.emit.json import emit_json
     from scriptc.source import SourceFile
 
@@ -599,8 +599,8 @@ def test_process_compile_and_version(files: Path) -> None:
 
 
 def test_process_internal_error_has_no_traceback(files: Path) -> None:
-    # A file that decodes but whose analysis is forced to fail: patch the driver in a child.
-    code = ("import sys, scriptc.driver as d\n"
+    # A file that decodes but whose analysis is forced to fail: patch the analysis in a child.
+    code = ("import sys, scriptc.analysis.analyze as d\n"
             "def boom(*a, **k): raise ValueError('boom')\n"
             "d.analyze_script = boom\n"
             "from scriptc.cli.main import main\n"

@@ -24,6 +24,7 @@ from harness import CASES, expect, short_lines
 from scriptc.project.config import (ImplementationError, Resolver, Settings, build_settings,
                             find_config, load_config)
 from scriptc.project.config.tomlpos import locate
+from scriptc.project.setup import Setup
 from scriptc.robot.profile import DEFAULT_PROFILE
 from scriptc.diagnostics.model import Severity
 from scriptc.diagnostics.codes import diagnostic
@@ -42,7 +43,7 @@ def test_config_case(path: Path) -> None:
 
 
 def test_the_repository_case_lints_as_its_lint_files_say() -> None:
-    from scriptc.driver import LintOptions, lint_paths
+    from scriptc.ops.lint import LintOptions, lint_paths
 
     run = lint_paths([str(REPO)], options=LintOptions(cache=False, jobs=1))
     assert not run.problems
@@ -72,8 +73,9 @@ def test_valid_configuration_builds_every_setting() -> None:
     waving, mood = s.functions
     assert (waving.name, waving.kind, waving.arity, waving.params) == ("waving", "B", 0, ())
     assert (mood.kind, mood.arity, mood.params) == ("F", 1, ("who",))
-    assert s.registry.get("mood").signature == "F: mood(who)"
-    assert s.registry.get("near") is not None  # the standard ones stay
+    functions = Setup(s).functions
+    assert functions.get("mood").signature == "F: mood(who)"
+    assert functions.get("near") is not None  # the standard ones stay
     (rule,) = s.rules
     assert (rule.name, rule.rulecode, rule.implementation) == ("greet", 16, "activity_rules:Greet")
     assert s.rule("greet") is rule and s.function("waving") is waving
@@ -84,7 +86,7 @@ def test_defaults() -> None:
     assert s.select == ("ALL",) and s.robot is DEFAULT_PROFILE and s.functions == ()
     from scriptc.ir.builtins import STANDARD
 
-    assert s.registry is STANDARD
+    assert Setup(s).functions is STANDARD
 
 
 def test_wrong_values_are_left_at_their_defaults() -> None:
@@ -324,19 +326,19 @@ def test_per_file_ignores_match_gitignore_patterns_from_the_root(tmp_path: Path)
 
 
 def test_declared_functions_satisfy_the_checks() -> None:
-    from scriptc.driver import analyze_bytes
+    from scriptc.analysis.analyze import analyze_bytes
 
     settings = load_config(str(REPO / "scriptc.toml")).settings
     data = (REPO / "activity.script").read_bytes()
     plain = analyze_bytes("a.script", data)
-    configured = analyze_bytes("a.script", data, functions=settings.registry)
+    configured = analyze_bytes("a.script", data, functions=Setup(settings).functions)
     assert [d.code for d in plain.diagnostics if d.code.startswith("R")] == ["R003", "R003"]
     assert not [d for d in configured.diagnostics if d.code.startswith("R")]
 
 
 def test_implementations_are_imported_only_when_asked() -> None:
     settings = load_config(str(REPO / "scriptc.toml")).settings
-    from scriptc.driver import LintOptions, lint_paths
+    from scriptc.ops.lint import LintOptions, lint_paths
 
     lint_paths([str(REPO)], options=LintOptions(cache=False, jobs=1))
     assert "activity_functions" not in sys.modules
@@ -505,8 +507,10 @@ def test_a_script_loaded_during_a_run_is_refused_under_a_broken_configuration(
     """A rule or an update may load a script by path while a run goes on: one from a
     repository whose configuration has an error is refused (a LoadError the session reports),
     not run with the defaults."""
-    from scriptc.cli.run import _loader
-    from scriptc.runtime.session import LoadError
+    from scriptc.ops.programs import ProgramLoader
+    from scriptc.runtime.loading import LoadError
+
+    _loader = ProgramLoader()
 
     (tmp_path / "scriptc.toml").write_text("[robot]\nmax-linear-speed = 0\n")
     script = tmp_path / "a.script"

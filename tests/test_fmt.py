@@ -16,7 +16,7 @@ import pytest
 
 from harness import CASES, UPDATE
 from scriptc.diagnostics.edits import apply_edits
-from scriptc.driver import analyze_script
+from scriptc.analysis.analyze import analyze_script
 from scriptc.emit.json import emit_json
 from scriptc.formatter import LINE_WIDTH, FormatResult, format_range, format_text
 from scriptc.source import SourceFile

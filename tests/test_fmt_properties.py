@@ -15,7 +15,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from scriptc.diagnostics.edits import apply_edits
-from scriptc.driver import analyze_script
+from scriptc.analysis.analyze import analyze_script
 from scriptc.emit.json import emit_json
 from scriptc.emit.script import format_script
 from scriptc.formatter import LINE_WIDTH, format_range, format_text

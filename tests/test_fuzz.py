@@ -45,7 +45,7 @@ def test_the_unmutated_examples_hold_the_laws(entry: str) -> None:
 
 
 def test_the_seeds_pass_so_the_laws_are_exercised() -> None:
-    from scriptc.driver import analyze_bytes
+    from scriptc.analysis.analyze import analyze_bytes
 
     assert all(analyze_bytes(n, d, "script").ok for n, d in fuzzing.SEEDS["script"])
     assert all(analyze_bytes(n, d, "json").ok for n, d in fuzzing.SEEDS["json"])

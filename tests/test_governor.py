@@ -11,7 +11,8 @@ import math
 import pytest
 
 from scriptc import bytecode
-from scriptc.driver import analyze_bytes, emit
+from scriptc.analysis.analyze import analyze_bytes
+from scriptc.ops.build import emit
 from scriptc.robot.profile import DEFAULT_PROFILE, Profile
 from scriptc.resources import schema_path
 from scriptc.runtime.governor import Governor

@@ -132,7 +132,7 @@ def test_positions_through_a_layout():
 
 
 def test_diagnostic_conversion():
-    from scriptc.driver import analyze_script
+    from scriptc.analysis.analyze import analyze_script
 
     text = "[a]\n[goal:g]\n[action]\n[b#x#blk_inst: MV() LD() AO()]\n[b#x#blk_terminus]\n"
     source = SourceFile("x", text)

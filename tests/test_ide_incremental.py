@@ -12,7 +12,7 @@ import pytest
 
 from harness import CASES
 from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit
-from scriptc.driver import analyze_script
+from scriptc.analysis.analyze import analyze_script
 from scriptc.ide.document import Document, canonical
 from scriptc.ide.incremental import Analyzer
 from scriptc.ide.pads import Layout

@@ -17,7 +17,7 @@ from pathlib import Path
 import pytest
 
 from scriptc import interrupt
-from scriptc.driver import analyze_bytes, analyze_file
+from scriptc.analysis.analyze import analyze_bytes, analyze_file
 from scriptc.runtime.interp import IRProgram
 from scriptc.runtime.robots.kinematic import KinematicRobot
 from scriptc.runtime.session import Session

@@ -13,7 +13,8 @@ from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from scriptc import language
-from scriptc.driver import analyze_json, analyze_script
+from scriptc.analysis.analyze import analyze_json, analyze_script
+from scriptc.project.setup import Setup
 from scriptc.resources import schema_path
 from scriptc.source import SourceFile
 
@@ -192,7 +193,7 @@ def test_a_function_name_the_configuration_accepts_runs(name: str) -> None:
     script = ("[a]\n[goal:g]\n[action]\n"
               f"[b##blk_jump: CND(! {{E: {name}()}}) TRJMP() FLSJMP(no)]\n"
               "[b##blk_terminus]\n[b#no#blk_terminus]\n")
-    analysis = analyze_script(SourceFile("f.script", script), functions=built.registry)
+    analysis = analyze_script(SourceFile("f.script", script), functions=Setup(built).functions)
     assert analysis.ok, [d.message for d in analysis.diagnostics]
     trace = Trace()
     Session([IRProgram(analysis.script, "f.script")], trace=trace, functions=impls).run(1000)

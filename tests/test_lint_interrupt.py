@@ -109,16 +109,17 @@ def test_busy_workers_are_stopped_at_once() -> None:
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor
 
-    from scriptc import driver, interrupt
+    from scriptc import interrupt
+    from scriptc.ops import lint
 
     context = multiprocessing.get_context("fork")
     with interrupt.deferred():
         pool = ProcessPoolExecutor(max_workers=1, mp_context=context,
-                                   initializer=driver._worker_start)
+                                   initializer=lint._worker_start)
         future = pool.submit(time.sleep, 60)
     wait_for(future.running)
     workers = list(pool._processes)
     start = time.monotonic()
-    driver._stop_workers(pool)
+    lint._stop_workers(pool)
     assert time.monotonic() - start < STOP_WITHIN_S
     assert [pid for pid in workers if alive(pid)] == []

@@ -199,12 +199,12 @@ def test_output_file_with_stdin(project: Path) -> None:
 
 
 def test_output_file_in_a_missing_folder_fails_before_linting(project: Path, monkeypatch) -> None:
-    import scriptc.driver
+    import scriptc.ops.lint
 
     def never(*args, **kwargs):
         raise AssertionError("linted before the output was checked")
 
-    monkeypatch.setattr(scriptc.driver, "lint_paths", never)
+    monkeypatch.setattr(scriptc.ops.lint, "lint_paths", never)
     result = run("lint", ".", "-o", "no/such/folder/report.txt")
     assert result.exit_code == 2 and "no/such/folder" in result.stderr
 

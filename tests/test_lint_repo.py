@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 
-from scriptc import driver
+from scriptc.ops import lint
 from scriptc.cli.main import cli
 
 CLEAN = "[clean]\n[goal:g]\n[action]\n[b##blk_inst: MV() LD() AO()]\n[b##blk_terminus]\n"
@@ -153,8 +153,8 @@ def test_the_policy_is_applied_after_the_cache(project: Path, monkeypatch) -> No
     (project / "scriptc.toml").write_text('[lint]\nper-file-ignores = { "legacy/**" = ["F001"] }\n')
     write(project, {"legacy/b.script": WARNS})
     analysed = []
-    real = driver._analyze_task
-    monkeypatch.setattr(driver, "_analyze_task",
+    real = lint._analyze_task
+    monkeypatch.setattr(lint, "_analyze_task",
                         lambda task: analysed.append(task[0]) or real(task))
     first = run("lint", "b.script", "legacy/b.script", "--format", "grouped")
     assert analysed == ["b.script"]
@@ -194,7 +194,7 @@ def test_workers_give_the_same_results(project: Path, monkeypatch) -> None:
     for i in range(6):
         (project / f"w{i}.script").write_text(WARNS if i % 2 else FIXABLE)
     serial = run("lint", ".", "--format", "json", "--no-cache", "-j", "1").stdout
-    monkeypatch.setattr(driver, "PARALLEL_MIN_BYTES", 0)
+    monkeypatch.setattr(lint, "PARALLEL_MIN_BYTES", 0)
     parallel = run("lint", ".", "--format", "json", "--no-cache", "-j", "2").stdout
     assert parallel == serial
 
@@ -205,7 +205,7 @@ def test_without_worker_processes_one_process_does_it_all(project: Path, monkeyp
     def refuse(*args, **kwargs):
         raise OSError("no processes here")
 
-    monkeypatch.setattr(driver, "PARALLEL_MIN_BYTES", 0)
+    monkeypatch.setattr(lint, "PARALLEL_MIN_BYTES", 0)
     monkeypatch.setattr(concurrent.futures, "ProcessPoolExecutor", refuse)
     result = run("lint", ".", "--no-cache", "-j", "2", "--format", "json")
     assert result.exit_code == 1 and {r["code"] for r in json.loads(result.stdout)} >= {"F001"}

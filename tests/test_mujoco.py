@@ -12,7 +12,7 @@ import pytest
 from click.testing import CliRunner
 
 from scriptc.cli.main import cli
-from scriptc.driver import analyze_bytes
+from scriptc.analysis.analyze import analyze_bytes
 from scriptc.robot.profile import DEFAULT_PROFILE, Profile
 from scriptc.runtime.interp import IRProgram
 from scriptc.runtime.robots import RobotFailure, make_robot

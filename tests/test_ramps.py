@@ -13,7 +13,7 @@ import pytest
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
-from scriptc.driver import analyze_bytes
+from scriptc.analysis.analyze import analyze_bytes
 from scriptc.robot.motion import (
     REST,
     Kinematics,

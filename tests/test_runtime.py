@@ -12,7 +12,7 @@ import pytest
 from click.testing import CliRunner
 
 from scriptc.cli.main import cli
-from scriptc.driver import analyze_bytes, analyze_file
+from scriptc.analysis.analyze import analyze_bytes, analyze_file
 from scriptc.frontend.script import lower_script
 from scriptc.runtime.bindings import Bindings
 from scriptc.runtime.evaluate import EvalContext, evaluate

@@ -33,7 +33,7 @@ from pathlib import Path
 import pytest
 
 from harness import CASES, expect
-from scriptc.driver import analyze_file
+from scriptc.analysis.analyze import analyze_file
 from scriptc.robot.profile import DEFAULT_PROFILE
 from scriptc.runtime.interp import IRProgram
 from scriptc.runtime.scenario import load_scenario
@@ -49,7 +49,7 @@ RUNTIME = CASES / "runtime"
 # and verified) as `scriptc run` does.
 def _vm_program(analysis, shown: str):
     from scriptc import bytecode
-    from scriptc.driver import emit
+    from scriptc.ops.build import emit
     from scriptc.runtime.vm import program_from_bytecode
 
     data = emit(analysis.script, "bytecode", analysis.source)
@@ -176,7 +176,7 @@ def test_runtime_case(path: Path, world: Path | None, expected: Path, executor: 
 
 def test_bytecode_refuses_what_no_vm_could_run() -> None:
     """The cases left out of the VM's runs are refused by code generation, with the reason."""
-    from scriptc.driver import emit
+    from scriptc.ops.build import emit
     from scriptc.emit.codegen import CodegenError
 
     for name in NOT_IN_BYTECODE:

@@ -10,7 +10,8 @@ from pathlib import Path
 
 import pytest
 
-from scriptc.driver import analyze_file, settings_for
+from scriptc.analysis.analyze import analyze_file
+from scriptc.project.setup import setup_for
 from scriptc.runtime.configured import ConfiguredError, implementations_for, rules_for
 from scriptc.runtime.interp import IRProgram
 from scriptc.runtime.session import Session
@@ -76,9 +77,10 @@ def repo(tmp_path: Path):
 
 
 def test_declared_functions_and_rules_run(repo: Path) -> None:
-    settings, problems = settings_for(str(repo / "party.script"))
-    assert not problems
-    analysis = analyze_file(repo / "party.script", functions=settings.registry)
+    setup = setup_for(str(repo / "party.script"))
+    settings = setup.settings
+    assert not setup.problems
+    analysis = analyze_file(repo / "party.script", functions=setup.functions)
     assert analysis.ok, [d.message for d in analysis.diagnostics]
     trace = Trace()
     session = Session([IRProgram(analysis.script, "party.script")], trace=trace,
@@ -96,7 +98,7 @@ def test_declared_functions_and_rules_run(repo: Path) -> None:
 def test_an_implementation_that_cannot_be_imported_is_named(repo: Path) -> None:
     (repo / "scriptc.toml").write_text(CONFIG.replace("activity_rules:Wave", "activity_rules:Missing"),
                                        encoding="utf-8")
-    settings, _ = settings_for(str(repo / "party.script"), cache=False)
+    settings = setup_for(str(repo / "party.script"), cache=False).settings
     with pytest.raises(ConfiguredError, match=r"rule `wave`.*Missing"):
         rules_for(settings)
 

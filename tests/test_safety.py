@@ -9,7 +9,7 @@ from scriptc.check import check_script
 from scriptc.check.context import Context
 from scriptc.check.safety import check_safety
 from scriptc.project.config import Settings, build_settings
-from scriptc.driver import analyze_bytes
+from scriptc.analysis.analyze import analyze_bytes
 from scriptc.robot.profile import DEFAULT_PROFILE, Profile
 
 

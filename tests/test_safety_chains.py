@@ -13,7 +13,7 @@ from hypothesis import strategies as st
 
 from scriptc.check.context import Context
 from scriptc.check.safety import check_safety
-from scriptc.driver import analyze_script
+from scriptc.analysis.analyze import analyze_script
 from scriptc.source import SourceFile
 from strategies import scripts
 

@@ -10,7 +10,7 @@ from pathlib import Path
 import jsonschema
 import pytest
 
-from scriptc.driver import analyze_json, analyze_script
+from scriptc.analysis.analyze import analyze_json, analyze_script
 from scriptc.emit.json import emit_json
 from scriptc.resources import schema_path
 from scriptc.source import SourceFile

@@ -8,7 +8,7 @@ from __future__ import annotations
 import pytest
 
 from scriptc.diagnostics.edits import apply_fixes
-from scriptc.driver import analyze_bytes, analyze_script
+from scriptc.analysis.analyze import analyze_bytes, analyze_script
 from scriptc.source import SourceFile
 from scriptc.analysis.suppress import find_suppressions
 from test_check_explanations import example_script
@@ -70,7 +70,7 @@ def test_errors_are_never_suppressed() -> None:
 
 def test_json_has_no_suppressions() -> None:
     # Thesis JSON has no comments: a "scriptc:" in a string is just text.
-    from scriptc.driver import analyze_json
+    from scriptc.analysis.analyze import analyze_json
 
     text = '{"activityname": "scriptc: ignore[F001]"}'
     assert "C006" not in [d.code for d in analyze_json(SourceFile("t.json", text)).diagnostics]

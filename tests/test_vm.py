@@ -11,7 +11,8 @@ from pathlib import Path
 import pytest
 
 from scriptc import bytecode
-from scriptc.driver import analyze_bytes, emit
+from scriptc.analysis.analyze import analyze_bytes
+from scriptc.ops.build import emit
 from scriptc.runtime.bindings import READER, Bindings
 from scriptc.runtime.evaluate import EvalContext, evaluate
 from scriptc.runtime.executor import End, Issue, SeekError

@@ -16,7 +16,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from scriptc import bytecode
-from scriptc.driver import analyze_bytes, emit
+from scriptc.analysis.analyze import analyze_bytes
+from scriptc.ops.build import emit
 from scriptc.runtime.interp import IRProgram
 from scriptc.runtime.scenario import scenario_from_data
 from scriptc.runtime.session import Session

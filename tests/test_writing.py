@@ -49,7 +49,7 @@ def here(tmp_path: Path, monkeypatch) -> Path:
 
 
 def expected_json() -> bytes:
-    from scriptc.driver import analyze_script
+    from scriptc.analysis.analyze import analyze_script
     from scriptc.emit.json import emit_json
     from scriptc.source import SourceFile
 

@@ -16,8 +16,9 @@ gives the same diagnostics as `scriptc lint` and the validated JSON or bytecode:
     built.json() if built.ok else print(built.report())
 
 How: the builder makes IR nodes with placeholder spans, prints them with the canonical printer
-(`scriptc.emit.script`), and analyses the printed text with `scriptc.driver.analyze_script`.
-So the diagnostics are exactly the CLI's on `Built.script_text`, and their positions point
+(`scriptc.emit.script`), and analyses the printed text with
+`scriptc.analysis.analyze.analyze_script`. So the diagnostics are exactly the CLI's on
+`Built.script_text`, and their positions point
 into that text. A condition is given as text and printed into its jump block token for token,
 only its blanks laid out as the formatter lays them out (text that is not made of the
 language's tokens is printed exactly as written), so an error in it points at what the caller
@@ -32,15 +33,15 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Iterable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from decimal import Decimal
 from typing import Union
 
-from scriptc.diagnostics.model import Diagnostic, Severity, has_errors
-from scriptc.emit.condition import quote
+from scriptc.analysis.analyze import Analysis
 from scriptc.emit.script import format_script
 from scriptc.ir import nodes as ir
 from scriptc.ir.builtins import STANDARD, FunctionRegistry
+from scriptc.language import quote
 from scriptc.robot.profile import Profile
 from scriptc.source import SourceFile, Span
 
@@ -316,30 +317,16 @@ class Activity:
 # The result
 
 
-@dataclass
-class Built:
-    """A script text and what `scriptc lint` finds in it (same codes, same positions)."""
+class Built(Analysis):
+    """A script text and what `scriptc lint` finds in it (same codes, same positions): an
+    `Analysis` (`source`, `script`, `diagnostics`, `ok`, `errors`, `codes`) that also gives
+    its report, its JSON and its bytecode."""
 
-    source: SourceFile
-    script: ir.Script | None
-    diagnostics: list[Diagnostic] = field(default_factory=list)
+    __slots__ = ()
 
     @property
     def script_text(self) -> str:
         return self.source.text
-
-    @property
-    def ok(self) -> bool:
-        """True when the script was read and no diagnostic is an error."""
-        return self.script is not None and not has_errors(self.diagnostics)
-
-    @property
-    def errors(self) -> list[Diagnostic]:
-        return [d for d in self.diagnostics if d.severity is Severity.ERROR]
-
-    @property
-    def codes(self) -> list[str]:
-        return [d.code for d in self.diagnostics]
 
     def report(self, format: str = "text") -> str:
         """The diagnostics rendered as the CLI renders them (`text`, `json`, `sarif`,
@@ -357,13 +344,13 @@ class Built:
 
     def json(self) -> str:
         """The thesis JSON text; raises BuildError when the script has errors."""
-        from scriptc.driver import emit
+        from scriptc.ops.build import emit
 
         return emit(self._checked(), "json")  # type: ignore[return-value]
 
     def bytecode(self) -> bytes:
         """The `.scb` bytecode; raises BuildError when the script has errors."""
-        from scriptc.driver import emit
+        from scriptc.ops.build import emit
 
         return emit(self._checked(), "bytecode", self.source)  # type: ignore[return-value]
 
@@ -374,10 +361,10 @@ def build_text(text: str, path: str = "<generated>.script", *,
     standard B/F/E functions and the default robot profile unless `functions` (a
     `scriptc.ir.builtins.FunctionRegistry`) or `profile` (a `scriptc.robot.profile.Profile`) say
     otherwise."""
-    from scriptc.driver import analyze_script
+    from scriptc.analysis.analyze import analyze_script
 
     analysis = analyze_script(SourceFile(path, text), functions, profile)
-    return Built(analysis.source, analysis.script, list(analysis.diagnostics))
+    return Built(analysis.source, analysis.script, analysis.diagnostics, analysis.suppressed)
 
 
 # ---------------------------------------------------------------------------------------------

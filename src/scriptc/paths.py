@@ -89,3 +89,15 @@ def repository_path(path: str, roots: dict[str, str | None] | None = None) -> st
     # Forward slashes, and a backslash read as a separator whatever the system (a Windows
     # path given on another system), as GitHub reads paths.
     return None if relative is None else relative.replace(os.sep, "/").replace("\\", "/")
+
+
+def same_file(a: str, b: str) -> bool:
+    """Whether two names name the same file (existing or not); `-` (stdin, stdout) is no file.
+    An output that is an input is refused by every verb that writes (nothing the user wrote
+    is overwritten)."""
+    if a == "-" or b == "-":
+        return False
+    try:
+        return os.path.samefile(a, b)
+    except OSError:
+        return os.path.realpath(a) == os.path.realpath(b)

@@ -5,18 +5,37 @@ exclusive). Lines and columns are computed only when something is shown to a per
 editor: `SourceFile.position(offset)` gives 1-based line and column in code points. The
 language server's positions (columns in UTF-8, UTF-16 or UTF-32 units) are
 `scriptc.server.convert`'s alone.
+
+`SourceKind` says what a source is written in: script syntax, thesis JSON or bytecode.
 """
 
 from __future__ import annotations
 
 import bisect
+import os
 import re
 from dataclasses import dataclass
+from enum import StrEnum
 from functools import cached_property
 from typing import NamedTuple
 
 
 _LINE_BREAK = re.compile(r"\r\n|\r|\n")
+
+
+class SourceKind(StrEnum):
+    """What a source is written in. The values are the words the cache keys and messages use
+    (a `StrEnum`: each member is equal to its value)."""
+
+    SCRIPT = "script"  # the script syntax (docs/language.md)
+    JSON = "json"  # the thesis JSON (docs/json.md)
+    BYTECODE = "scb"  # a compiled program (docs/bytecode.md)
+
+    @classmethod
+    def of_path(cls, path: str) -> SourceKind:
+        """The kind a file's suffix names (`.json`, `.scb`); script syntax for any other."""
+        suffix = os.path.splitext(path)[1].lower()
+        return {".json": cls.JSON, ".scb": cls.BYTECODE}.get(suffix, cls.SCRIPT)
 
 
 class Span(NamedTuple):

@@ -34,8 +34,14 @@ from scriptc.interrupt import deferred
 STDOUT = "-"
 
 # The UTF-8 byte order mark: some Windows editors start files with it. Readers skip it
-# (`scriptc.driver.decode_source`); whatever rewrites a file keeps it (`encode_like`).
+# (`without_bom`: scripts, thesis JSON, configurations); whatever rewrites a file keeps it
+# (`encode_like`).
 UTF8_BOM = b"\xef\xbb\xbf"
+
+
+def without_bom(data: bytes) -> bytes:
+    """A file's bytes without the UTF-8 byte order mark it may start with."""
+    return data[len(UTF8_BOM):] if data.startswith(UTF8_BOM) else data
 
 
 class WriteError(Exception):

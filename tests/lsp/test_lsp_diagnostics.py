@@ -8,7 +8,7 @@ import pytest
 from lsprotocol import types as lsp
 
 from lsptest import CASES, Doc
-from scriptc.driver import analyze_script
+from scriptc.analysis.analyze import analyze_script
 from scriptc.source import SourceFile
 
 pytestmark = pytest.mark.asyncio(loop_scope="module")

@@ -17,7 +17,7 @@ import pytest
 from lsprotocol import types as lsp
 
 from lsptest import CASES, diagnostics_of
-from scriptc.driver import analyze_script
+from scriptc.analysis.analyze import analyze_script
 from scriptc.server import convert
 from scriptc.source import SourceFile
 

@@ -10,7 +10,7 @@ from lsprotocol import types as lsp
 from pygls.exceptions import JsonRpcException
 
 from lsptest import Doc, apply_edits
-from scriptc.driver import analyze_script
+from scriptc.analysis.analyze import analyze_script
 from scriptc.source import SourceFile
 
 pytestmark = pytest.mark.asyncio(loop_scope="module")

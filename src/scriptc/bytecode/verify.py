@@ -37,12 +37,13 @@ from scriptc.bytecode.opcodes import (
 )
 from scriptc.bytecode.program import Num, Program
 from scriptc.gcpause import gc_paused
+from scriptc.language import MUTEXES, RULE_ACTIONS
 
 __all__ = ["verify", "load"]
 
 _TEXT, _NUMBER = 1, 2
-_ACTIONS = "ARDBC"
-_MUTEXES = "LMU"
+_ACTIONS = "".join(RULE_ACTIONS)
+_MUTEXES = "".join(MUTEXES)
 
 _COND = BY_NAME["COND"]
 _FIND = BY_NAME["FIND"]

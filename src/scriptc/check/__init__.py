@@ -37,7 +37,7 @@ from scriptc.diagnostics.model import Diagnostic
 from scriptc.ir.builtins import STANDARD, FunctionRegistry
 from scriptc.robot.profile import Profile
 from scriptc.ir.nodes import Script
-from scriptc.source import SourceFile
+from scriptc.source import SourceFile, SourceKind
 
 PASSES = (
     check_messages,
@@ -54,7 +54,7 @@ __all__ = ["PASSES", "Context", "check_script"]
 
 def check_script(
     script: Script, source: SourceFile, *, functions: FunctionRegistry = STANDARD,
-    profile: Profile | None = None, kind: str = "script",
+    profile: Profile | None = None, kind: SourceKind = SourceKind.SCRIPT,
 ) -> list[Diagnostic]:
     """Every diagnostic the semantic passes find in `script`, sorted by position. `profile`
     is the robot profile the safety pass checks against (None: the defaults); `kind` is the

@@ -15,7 +15,7 @@ from scriptc.diagnostics.model import Fix, TextEdit
 from scriptc.ir.builtins import STANDARD, FunctionRegistry
 from scriptc.robot.profile import DEFAULT_PROFILE, Profile
 from scriptc.ir.nodes import Block, JumpBlock, Name, Script
-from scriptc.source import SourceFile, Span
+from scriptc.source import SourceFile, SourceKind, Span
 
 
 @dataclass(frozen=True, slots=True)
@@ -34,13 +34,13 @@ class Context:
 
     def __init__(
         self, script: Script, source: SourceFile, functions: FunctionRegistry = STANDARD,
-        profile: Profile | None = None, kind: str = "script",
+        profile: Profile | None = None, kind: SourceKind = SourceKind.SCRIPT,
     ) -> None:
         self.script = script
         self.source = source
         self.functions = functions
         # "script" or "json": fixes are text edits in script syntax, so JSON sources get none.
-        self.is_script_syntax = kind == "script"
+        self.is_script_syntax = kind == SourceKind.SCRIPT
         self.profile = profile if profile is not None else DEFAULT_PROFILE
 
     @cached_property

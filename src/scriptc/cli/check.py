@@ -1,7 +1,7 @@
 """`scriptc check PATH...`: read thesis JSON and run the same checks as for scripts.
 
 PATH is a JSON file (read whatever its suffix), `-` for stdin, or a folder: every `.json` file
-under it that is a thesis script (`scriptc.driver.is_thesis_json`: not a scenario), walked as
+under it that is a thesis script (`scriptc.project.files.is_thesis_json`: not a scenario), walked as
 `lint` walks folders. Diagnostics go to stdout in the chosen format; positions are in the JSON
 file. Exit status as for `lint`.
 """
@@ -11,6 +11,7 @@ from __future__ import annotations
 import click
 
 from scriptc.cli.common import format_option, report_paths, stdin_name_option
+from scriptc.source import SourceKind
 
 
 @click.command("check")
@@ -21,4 +22,4 @@ from scriptc.cli.common import format_option, report_paths, stdin_name_option
 def command(ctx: click.Context, files: tuple[str, ...], format_: str, stdin_name: str) -> None:
     """Check thesis JSON files: files, folders (every JSON script inside, recursively) or -
     for stdin."""
-    report_paths(ctx, files, "json", format_, stdin_name)
+    report_paths(ctx, files, SourceKind.JSON, format_, stdin_name)

@@ -12,16 +12,17 @@ from __future__ import annotations
 
 import click
 
-from scriptc import driver
 from scriptc.cli.common import (CliError, check_output, load, refuse_overwriting_input, show,
                                 stdin_name_option, write_output)
+from scriptc.ops.build import EMITTERS, default_output, emit
+from scriptc.source import SourceKind
 
 
 @click.command("compile")
 @click.argument("file")
 @click.option("-o", "--output", metavar="OUT",
               help="Output file (- for stdout). Default: FILE with the back end's suffix.")
-@click.option("--emit", "back_end", type=click.Choice(list(driver.EMITTERS)), default="json",
+@click.option("--emit", "back_end", type=click.Choice(list(EMITTERS)), default="json",
               show_default=True, help="Back end.")
 @stdin_name_option
 @click.pass_context
@@ -37,11 +38,11 @@ def command(ctx: click.Context, file: str, output: str | None, back_end: str,
     if named.lower().endswith(".json"):
         raise CliError(f"`{named}` is thesis JSON, not script syntax: `scriptc check {named}` "
                        f"checks it, `scriptc decompile {named}` turns it into a script")
-    output = output or driver.default_output(file, back_end)
+    output = output or default_output(file, back_end)
     refuse_overwriting_input(file, output)
     check_output(output)
-    analysis = load(file, "script", stdin_name)
+    analysis = load(file, SourceKind.SCRIPT, stdin_name)
     show([analysis], err=True)
     if not analysis.ok:
         ctx.exit(1)
-    write_output(output, driver.emit(analysis.script, back_end, analysis.source))
+    write_output(output, emit(analysis.script, back_end, analysis.source))

@@ -10,9 +10,10 @@ from __future__ import annotations
 
 import click
 
-from scriptc import driver
 from scriptc.cli.common import (check_output, load, refuse_overwriting_input, show,
                                 stdin_name_option, write_output)
+from scriptc.ops.build import decompile
+from scriptc.source import SourceKind
 
 
 @click.command("decompile")
@@ -29,9 +30,9 @@ def command(ctx: click.Context, file: str, output: str, stdin_name: str) -> None
     """
     refuse_overwriting_input(file, output)
     check_output(output)
-    analysis = load(file, "json", stdin_name)
+    analysis = load(file, SourceKind.JSON, stdin_name)
     show([analysis], err=True)
     if analysis.script is None:
         ctx.exit(1)
-    write_output(output, driver.decompile(analysis.script))
+    write_output(output, decompile(analysis.script))
     ctx.exit(0 if analysis.ok else 1)

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import click
 
-from scriptc import driver
+from scriptc.analysis.read import ReadError, read_bytes
 from scriptc.cli.common import CliError, read_stdin, write
 
 
@@ -23,8 +23,8 @@ def command(ctx: click.Context, file: str) -> None:
     from scriptc.bytecode import BytecodeError, disassemble, load
 
     try:
-        data = read_stdin() if file == "-" else driver.read_bytes(file)
-    except driver.ReadError as exc:
+        data = read_stdin() if file == "-" else read_bytes(file)
+    except ReadError as exc:
         raise CliError(str(exc)) from None
     try:
         program = load(data)

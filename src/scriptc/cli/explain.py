@@ -40,9 +40,7 @@ def command(code: str | None, all_: bool, format_: str) -> None:
     try:
         entry = codes.lookup(code)
     except KeyError:
-        from scriptc.driver import suggest_codes
-
-        hint = suggest_codes(code)
+        hint = codes.suggest_codes(code)
         message = f"unknown code `{code}`"
         if hint:
             named = [f"`{h}` ({codes.lookup(h).name})" for h in hint]
@@ -51,6 +49,10 @@ def command(code: str | None, all_: bool, format_: str) -> None:
     heading = f"{entry.code} ({entry.name}): {entry.summary}"
     if entry.retired:
         heading += " (retired)"
+    # A run-time code is not lint's: no severity to configure, a run that stops or goes on.
+    severity = (f"at run time, in the trace: {entry.severity.value} "
+                f"({'the run stops' if entry.severity.value == 'error' else 'the run goes on'})"
+                if entry.at_run_time else f"default severity: {entry.severity.value}")
     body = (entry.explanation or "(no explanation has been written for this code yet)").rstrip()
     if use_color(sys.stdout):
         from rich.console import Console
@@ -58,8 +60,8 @@ def command(code: str | None, all_: bool, format_: str) -> None:
 
         console = Console(force_terminal=True, no_color=False, highlight=False)
         console.print(heading, style="bold", markup=False)
-        console.print(f"default severity: {entry.severity.value}", markup=False)
+        console.print(severity, markup=False)
         console.print()
         console.print(Markdown(body))
         return
-    write(f"{heading}\ndefault severity: {entry.severity.value}\n\n{body}\n")
+    write(f"{heading}\n{severity}\n\n{body}\n")

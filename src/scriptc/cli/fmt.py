@@ -10,32 +10,15 @@ stdin, such a file is written back to stdout unchanged, so an editor that pipes 
 through `scriptc fmt -` never loses it.
 
 Exit status: 0 done (or nothing to change), 1 a file would change (`--check`, `--diff`) or
-was refused, 2 a path that does not exist, a file that cannot be read or written.
+was refused, 2 a path that does not exist, a file that cannot be read or written. The work is
+`scriptc.ops.format.FormatRun`'s; this module reports each file's outcome.
 """
 
 from __future__ import annotations
 
-import re
-
 import click
 
-from scriptc import driver, writing
 from scriptc.cli.common import read_stdin, show, stdin_name_option, write, write_bytes
-
-_LINES = re.compile(r"[^\r\n]*(?:\r\n|\r|\n)|[^\r\n]+$")
-
-
-def unified_diff(old: str, new: str, name: str) -> str:
-    """A unified diff of two texts, line endings kept, `\\ No newline at end of file` marked."""
-    import difflib
-
-    out = []
-    for line in difflib.unified_diff(_LINES.findall(old), _LINES.findall(new),
-                                     fromfile=name, tofile=name):
-        if not line.endswith(("\n", "\r")):
-            line += "\n\\ No newline at end of file\n"
-        out.append(line)
-    return "".join(out)
 
 
 @click.command("fmt")
@@ -58,66 +41,32 @@ def command(ctx: click.Context, paths: tuple[str, ...], check: bool, show_diff: 
     Comments are kept where they were and the compiled JSON does not change. Files with
     syntax errors are never rewritten.
     """
-    from scriptc.formatter import format_text
+    from scriptc.ops.format import FileFormat, FormatRun, unified_diff
 
-    from scriptc.project.config import Resolver
-    from scriptc.paths import shown_path
-
-    # The same walk as `scriptc lint`: .gitignore and the configuration's exclusions; a path
-    # that does not exist or a folder that cannot be read is named, and the others go on.
-    files, missing = driver.discover(paths, resolver=Resolver())
-    for problem in missing:
+    run = FormatRun(paths, stdin=read_stdin, stdin_name=stdin_name, dry=check or show_diff,
+                    skip_invalid=skip_invalid)
+    for problem in run.problems:
         write(f"error: {problem}\n", err=True)
-    if not files and not missing:
+    if not run.files and not run.problems:
         write("warning: no script files found under the given paths\n", err=True)
-    dry = check or show_diff
-    changed = refused = 0
-    problems = len(missing)
-    for path in files:
-        name = shown_path(stdin_name if path == "-" else path)
-        try:
-            data = read_stdin() if path == "-" else driver.read_bytes(path)
-        except driver.ReadError as exc:
-            write(f"error: {exc}\n", err=True)
-            problems += 1
-            continue
-        source, problem = driver.decode_source(name, data)
-        result = None if problem is not None else format_text(source.text)
-        if result is None or result.refused:
-            diagnostics = [problem] if problem is not None else result.diagnostics
-            if path == "-" and not dry:
-                write_bytes(data)  # the input, unchanged: a pipe never loses its text
-            if skip_invalid:
-                write(f"warning: skipped `{name}`: it has syntax errors\n", err=True)
+    for done in run:
+        if done.stdout is not None:
+            write_bytes(done.stdout)  # stdin's text, formatted or as it came
+        if done.status == FileFormat.UNREADABLE:
+            write(f"error: {done.error}\n", err=True)
+        elif done.status == FileFormat.REFUSED and skip_invalid:
+            write(f"warning: skipped `{done.name}`: it has syntax errors\n", err=True)
+        elif done.status == FileFormat.REFUSED:
+            show([done.analysis], err=True)
+            write(f"error: `{done.name}` was not formatted: fix its syntax errors first\n",
+                  err=True)
+        elif done.status == FileFormat.CHANGED:
+            if show_diff:
+                write_bytes(unified_diff(done.old, done.new, done.name).encode("utf-8"))
             else:
-                show([driver.Analysis(source, None, diagnostics)], err=True)
-                write(f"error: `{name}` was not formatted: fix its syntax errors first\n",
-                      err=True)
-                refused += 1
-            continue
-        new = writing.encode_like(result.text, data)
-        if new == data:
-            if path == "-" and not dry:
-                write_bytes(data)
-            continue
-        changed += 1
-        if show_diff:
-            write_bytes(unified_diff(source.text, result.text, name).encode("utf-8"))
-        if check and not show_diff:
-            write(f"would reformat {name}\n")
-        if dry:
-            continue
-        if path == "-":
-            write_bytes(new)
-            continue
-        try:
-            writing.write_file(path, new)
-        except writing.WriteError as exc:
-            write(f"error: {exc}: it was not reformatted\n", err=True)
-            problems += 1
-            continue
-        write(f"reformatted {name}\n", err=True)
-    if problems:
-        ctx.exit(2)
-    if refused or (dry and changed):
-        ctx.exit(1)
+                write(f"would reformat {done.name}\n")
+        elif done.status == FileFormat.UNWRITTEN:
+            write(f"error: {done.error}: it was not reformatted\n", err=True)
+        elif done.status == FileFormat.REFORMATTED and done.path != "-":
+            write(f"reformatted {done.name}\n", err=True)
+    ctx.exit(run.exit_code)

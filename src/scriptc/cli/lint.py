@@ -22,9 +22,10 @@ import os
 
 import click
 
-from scriptc import driver
 from scriptc.cli.common import (CliError, check_output, lint_format_option, lint_report,
                                 report_paths, stdin_name_option)
+from scriptc.paths import same_file
+from scriptc.source import SourceKind
 
 
 def _selectors(option: str, *, ignoring: bool = False):
@@ -43,7 +44,9 @@ def _selectors(option: str, *, ignoring: bool = False):
                     continue
                 codes = selected_codes(selector)
                 if not codes:
-                    hint = driver.suggest_codes(selector)
+                    from scriptc.diagnostics.codes import suggest_codes
+
+                    hint = suggest_codes(selector)
                     message = f"`{selector}` names no diagnostic code"
                     if hint:
                         message += f"; did you mean {' or '.join(f'`{h}`' for h in hint)}?"
@@ -70,7 +73,7 @@ def _refuse_overwriting_scripts(output_file: str, paths: tuple[str, ...]) -> Non
             continue
         inside = os.path.isdir(path) and target.endswith(".script") and \
             target.startswith(os.path.realpath(path).rstrip(os.sep) + os.sep)
-        if inside or driver.same_file(path, output_file):
+        if inside or same_file(path, output_file):
             raise CliError(f"the output file `{output_file}` is a script being linted: refusing "
                            "to overwrite it (choose another file with --output-file)")
 
@@ -152,16 +155,19 @@ def command(ctx: click.Context, paths: tuple[str, ...], format_: str, stdin_name
         from scriptc.project.config import RuleSelection
 
         selection = RuleSelection(select or None, extend_select, ignore)
-    options = driver.LintOptions(cache=not no_cache, cache_dir=cache_dir, jobs=jobs,
-                                 fix=fix and not diff, config=config, isolated=isolated,
-                                 force_exclude=force_exclude, diff=diff,
-                                 unsafe_fixes=unsafe_fixes, selection=selection)
+    from scriptc.ops.lint import LintOptions
+
+    options = LintOptions(cache=not no_cache, cache_dir=cache_dir, jobs=jobs,
+                          fix=fix and not diff, config=config, isolated=isolated,
+                          force_exclude=force_exclude, diff=diff, unsafe_fixes=unsafe_fixes,
+                          selection=selection)
     reporting = dict(quiet=quiet, statistics=statistics, output_file=output_file,
                      exit_zero=exit_zero)
     if not watch:
-        report_paths(ctx, paths, "script", format_, stdin_name, options, **reporting)
+        report_paths(ctx, paths, SourceKind.SCRIPT, format_, stdin_name, options, **reporting)
     from scriptc.cli.watch import watch as watch_paths
 
     ctx.exit(watch_paths(
-        paths, lambda: lint_report(paths, "script", format_, stdin_name, options, **reporting),
+        paths, lambda: lint_report(paths, SourceKind.SCRIPT, format_, stdin_name, options,
+                                   **reporting),
         clear=output_file is None))

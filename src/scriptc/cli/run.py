@@ -22,14 +22,10 @@ import os
 
 import click
 
-from scriptc import driver, interrupt
-from scriptc.cli.common import CliError, check_output, load, show, write, write_bytes, write_output
-
-DEFAULT_LIMIT_MS = 3_600_000
-
-
-def _kind(path: str) -> str:
-    return {".json": "json", ".scb": "scb"}.get(os.path.splitext(path)[1].lower(), "script")
+from scriptc import interrupt
+from scriptc.cli.common import (CliError, check_output, configured, show,
+                                stop_for_configuration, write, write_bytes, write_output)
+from scriptc.ops.programs import EXECUTORS
 
 
 class Refused(CliError):
@@ -37,85 +33,6 @@ class Refused(CliError):
     script with errors."""
 
     exit_code = 1
-
-
-def _bytecode_program(path: str):
-    """A program for a `.scb` file: decoded and verified, then run through the VM."""
-    try:
-        data = driver.read_bytes(path)
-    except driver.ReadError as exc:
-        raise CliError(str(exc)) from None
-    from scriptc.bytecode import BytecodeError, load
-    from scriptc.runtime import vm
-
-    try:
-        program = load(data)
-    except BytecodeError as exc:
-        raise Refused(f"`{path}`: {exc}") from None
-    # The VM's entry point: a runtime `Program` (executor.py) over a verified bytecode Program.
-    return vm.program_from_bytecode(program, path)
-
-
-def _checked_program(analysis, path: str, executor: str):
-    """The runtime program of a checked script: compiled to bytecode in memory, loaded (decoded
-    and verified, as a `.scb` file is) and run by the VM; or, with `--executor ir`, read from
-    the IR by the reference interpreter."""
-    if executor == "ir":
-        from scriptc.runtime.interp import IRProgram
-
-        return IRProgram(analysis.script, path)
-    from scriptc.bytecode import load
-    from scriptc.emit.codegen import CodegenError
-    from scriptc.runtime import vm
-
-    try:
-        data = driver.emit(analysis.script, "bytecode", analysis.source)
-    except CodegenError as exc:  # only for what the checks let through (none known)
-        raise Refused(f"`{path}` cannot be compiled to bytecode: {exc} (`--executor ir` "
-                      "runs it)") from None
-    return vm.program_from_bytecode(load(data), path)
-
-
-def _analyze(paths: tuple[str, ...], executor: str = "vm"):
-    """Programs for the files, or exit 1 with every file's diagnostics."""
-    analyses, programs = [], []
-    for path in paths:
-        kind = _kind(path)
-        if kind == "scb":
-            programs.append(_bytecode_program(path))
-            continue
-        # As `scriptc compile` reads it: the repository's declared functions, its robot
-        # profile and its lint policy (scriptc.toml).
-        analysis = load(path, kind)
-        analyses.append(analysis)
-        programs.append(_checked_program(analysis, path, executor) if analysis.ok else None)
-    return analyses, programs
-
-
-def _loader(path: str, executor: str = "vm"):
-    """Scripts named at run time (a `script_vect` update, an override by path)."""
-    from scriptc.runtime.session import LoadError
-
-    kind = _kind(path)
-    if kind == "scb":
-        try:
-            return _bytecode_program(path)
-        except CliError as exc:
-            raise LoadError(exc.format_message()) from None
-    try:
-        settings, problems = driver.settings_for(path)
-        analysis = driver.analyze_file(path, kind, functions=settings.registry,
-                                       profile=settings.robot)
-    except driver.ReadError as exc:
-        raise LoadError(str(exc)) from None
-    if driver.configuration_failed(problems):
-        raise LoadError(f"the configuration of `{path}` has errors (run `scriptc lint {path}`)")
-    if not analysis.ok:
-        raise LoadError(f"`{path}` has errors (run `scriptc lint {path}`)")
-    try:
-        return _checked_program(analysis, path, executor)
-    except CliError as exc:
-        raise LoadError(exc.format_message()) from None
 
 
 @click.command("run")
@@ -137,7 +54,7 @@ def _loader(path: str, executor: str = "vm"):
 @click.option("--plot", "plot_path", metavar="FILE",
               help="Draw the run (trajectory from above, timeline of the tracks) to FILE.png "
                    "or FILE.svg (needs matplotlib, scriptc's plot extra).")
-@click.option("--executor", "executor", type=click.Choice(["vm", "ir"]), default="vm",
+@click.option("--executor", "executor", type=click.Choice(EXECUTORS), default="vm",
               show_default=True,
               help="How .script and .json files run: vm (compiled to bytecode, run by the VM) "
                    "or ir (the reference interpreter over the IR, for comparison). .scb files "
@@ -183,24 +100,34 @@ def command(ctx: click.Context, files: tuple[str, ...], world: str | None, until
         except ScenarioError as exc:
             write("".join(f"error: {line}\n" for line in exc.lines()), err=True)
             ctx.exit(2)
-    analyses, programs = _analyze(files, executor)
-    if any(a.diagnostics for a in analyses):
-        show([a for a in analyses if a.diagnostics], err=True)
-    if any(p is None for p in programs):
+    from scriptc.analysis.read import ReadError
+    from scriptc.ops import programs
+
+    try:
+        loaded = programs.load_programs(files, executor, configured=configured)
+    except programs.ConfigurationFailed:
+        stop_for_configuration()
+    except ReadError as exc:
+        raise CliError(str(exc)) from None
+    except programs.Refused as exc:
+        raise Refused(str(exc)) from None
+    if any(a.diagnostics for a in loaded.analyses):
+        show([a for a in loaded.analyses if a.diagnostics], err=True)
+    if not loaded.ok:
         ctx.exit(1)
     from scriptc.runtime.configured import ConfiguredError, implementations_for, rules_for
 
     # One session, one robot: the repository of the first file gives the functions and rules
     # that run (imported now: linting never imports them) and the safety governor's profile.
-    settings, _problems = driver.settings_for(files[0])
+    settings = loaded.setup.settings
     try:
         functions, rules = implementations_for(settings), rules_for(settings)
     except ConfiguredError as exc:
         raise CliError(str(exc)) from None
     trace = Trace(enabled=trace_path is not None or plot_path is not None)
     if governor is None:
-        governor = robot != "kinematic"
-    profile = settings.robot if governor else None
+        governor = programs.governed_by_default(robot)
+    profile = loaded.setup.profile if governor else None
     try:
         robot_backend = make_robot(robot)
     except Exception as exc:  # noqa: BLE001 - a backend that cannot start (mujoco missing)
@@ -210,14 +137,14 @@ def command(ctx: click.Context, files: tuple[str, ...], world: str | None, until
         from scriptc.runtime.plot import PathRecorder
 
         robot_backend = recorder = PathRecorder(robot_backend)
-    session = Session(programs, scenario=scenario, robot=robot_backend, trace=trace,
-                      loader=lambda path: _loader(path, executor), profile=profile,
+    session = Session(loaded.programs, scenario=scenario, robot=robot_backend, trace=trace,
+                      loader=programs.ProgramLoader(executor), profile=profile,
                       functions=functions, rules=rules)
     # Scripts may loop forever: without --until, a run stops after an hour of simulated time.
     # Ctrl-C stops the session between two instants (or two chunks of physics): it ends
     # `interrupted`, its trace is written up to there, and the exit status is 130.
     with interrupt.catching():
-        result = session.run(until if until is not None else DEFAULT_LIMIT_MS)
+        result = session.run(until if until is not None else programs.DEFAULT_LIMIT_MS)
     interrupted = result.outcome == "interrupted"
     capped = until is None and result.outcome == "until"
     # A file that cannot be written at the end (a full disk) is reported after the summary,

@@ -119,20 +119,18 @@ def command(ctx: click.Context, path: str, as_json: bool, config: str | None,
     """Show the configuration PATH gets and where each setting comes from (a configuration
     file and line, or the default)."""
     from scriptc.cli.common import show
+    from scriptc.diagnostics.model import has_errors
     from scriptc.project.config.describe import describe
-    from scriptc.driver import FileReport, configuration_failed
 
     if config and isolated:
         raise click.UsageError("--config and --isolated contradict each other")
     if not os.path.lexists(path):
         raise CliError(f"`{path}` does not exist")
     report = describe(path, config=config, isolated=isolated)
-    problems = []
     if report.problems:
-        problems = [FileReport(report.source, report.problems, report.source.path)]
-        show(problems, err=True)
+        show([(report.source, report.problems)], err=True)
     if as_json:
         write_bytes(render_json(report).encode("utf-8"))
     else:
         write(render_text(report))
-    ctx.exit(1 if configuration_failed(problems) else 0)
+    ctx.exit(1 if has_errors(report.problems) else 0)

@@ -7,10 +7,14 @@ its `diagnostics` (in the order to show them), and returns the whole output as a
                   line with `^^^` under the span); ANSI colours only when asked for;
 - `render_json`   a JSON list, one object per diagnostic (schemas/lint-output.schema.json);
 - `render_sarif`  SARIF 2.1.0, for code-scanning services;
-- `render_github` GitHub Actions workflow commands (`::error file=...::message`).
+- `render_github` GitHub Actions workflow commands (`::error file=...::message`);
+- `render_grouped` one line per diagnostic under its file (ruff's grouped format: `lint`'s);
+
+and what `scriptc lint` says of a whole run (`scriptc.ops.lint.LintRun`): `render_statistics`
+(`--statistics`), `lint_summary` and `diff_summary` (the lines it ends with on stderr).
 
 Positions shown anywhere are 1-based lines and columns counted in code points; end columns
-are exclusive (the column just after the span), as in SARIF. Files are named as the driver
+are exclusive (the column just after the span), as in SARIF. Files are named as the library
 named them (`scriptc.paths.shown_path`) in text and JSON, and relative to the repository's
 root (`scriptc.paths.repository_path`) in SARIF and GitHub's format. This module imports
 nothing beyond the standard library, colours included (it writes the ANSI codes itself): it
@@ -27,16 +31,19 @@ from scriptc.paths import repository_path, repository_root
 from scriptc.source import SourceFile, Span
 
 
-class Result(Protocol):
-    """What a renderer needs of one file's results (`scriptc.driver.Analysis` is one)."""
+class FileResults(Protocol):
+    """What a renderer needs of one file's results (`scriptc.analysis.analyze.Analysis` is
+    one; so is a configuration file's `scriptc.project.config.ConfigFile`)."""
 
     source: SourceFile
     diagnostics: Sequence[Diagnostic]
 
 
 def _pairs(results: Sequence[Any]) -> list[tuple[SourceFile, Sequence[Diagnostic]]]:
-    """Accept Analysis-like objects or plain `(source, diagnostics)` tuples."""
-    return [r if isinstance(r, tuple) else (r.source, r.diagnostics) for r in results]
+    """Accept Analysis-like objects (anything with a `source` and `diagnostics`, a
+    configuration file's `ConfigFile` too, itself a tuple) or plain `(source, diagnostics)`
+    pairs."""
+    return [(r.source, r.diagnostics) if hasattr(r, "diagnostics") else r for r in results]
 
 
 def _code_entry(code: str):
@@ -219,8 +226,9 @@ def _diagnostic_lines(source: SourceFile, d: Diagnostic) -> list[_Line]:
     return out
 
 
-def _plural(n: int, word: str) -> str:
-    return f"{n} {word}" if n == 1 else f"{n} {word}s"
+def plural(n: int, word: str, words: str | None = None) -> str:
+    """`1 file`, `2 files` (`words`: the plural when it is not `word` + s)."""
+    return f"{n} {word}" if n == 1 else f"{n} {words or word + 's'}"
 
 
 def summary(results: Sequence[Any]) -> str:
@@ -231,11 +239,11 @@ def summary(results: Sequence[Any]) -> str:
             counts[d.severity] += 1
     parts = []
     if counts[Severity.ERROR]:
-        parts.append(_plural(counts[Severity.ERROR], "error"))
+        parts.append(plural(counts[Severity.ERROR], "error"))
     if counts[Severity.WARNING]:
-        parts.append(_plural(counts[Severity.WARNING], "warning"))
+        parts.append(plural(counts[Severity.WARNING], "warning"))
     if counts[Severity.INFO]:
-        parts.append(_plural(counts[Severity.INFO], "info message"))
+        parts.append(plural(counts[Severity.INFO], "info message"))
     if not parts:
         return ""
     worst = min((s for s in Severity if counts[s]), key=lambda s: s.rank)
@@ -500,6 +508,38 @@ def render_github(results: Sequence[Any]) -> str:
     return "".join(out)
 
 
+# ---------------------------------------------------------------------------------------------
+# grouped text: one line per diagnostic, under its file (as ruff's `--output-format grouped`)
+
+
+def _printable(text: str) -> str:
+    return text if text.isprintable() else "".join(c if c.isprintable() else "\ufffd"
+                                                   for c in text)
+
+
+def render_grouped(results: Sequence[Any], *, unsafe: bool = False) -> str:
+    """Each file with diagnostics, then one line per diagnostic: `  LINE:COL CODE [*] severity:
+    message` (`[*]`: `--fix` can fix it; with `unsafe`, `--fix --unsafe-fixes`), a blank line
+    between files, and the summary."""
+    out = []
+    for source, diagnostics in _pairs(results):
+        if not diagnostics:
+            continue
+        rows = []
+        for d in diagnostics:
+            pos = source.position(d.span.start)
+            mark = "[*] " if d.fix is not None and (unsafe or d.fix.safe) else ""
+            rows.append((f"{pos.line}:{pos.column}", f"{d.code} {mark}{d.severity.value}: "
+                                                     f"{_printable(d.message)}"))
+        width = max(len(where) for where, _ in rows)
+        out.append(f"{_printable(source.path)}:\n")
+        out += [f"  {where:<{width}} {rest}\n" for where, rest in rows]
+        out.append("\n")
+    if out:
+        out.append(summary(results) + "\n")
+    return "".join(out)
+
+
 RENDERERS: dict[str, Callable[..., str]] = {
     "text": render_text,
     "json": render_json,
@@ -507,10 +547,96 @@ RENDERERS: dict[str, Callable[..., str]] = {
     "github": render_github,
 }
 FORMATS = tuple(RENDERERS)
+# `lint` and `check` also have `grouped`, which marks what `--fix` fixes.
+LINT_FORMATS = (*FORMATS, "grouped")
 
 
-def render(format: str, results: Sequence[Any], *, color: bool = False) -> str:
-    """Render with the renderer named `format`; `color` only matters for text."""
+def render(format: str, results: Sequence[Any], *, color: bool = False,
+           unsafe: bool = False) -> str:
+    """Render with the renderer named `format` (one of LINT_FORMATS); `color` only matters
+    for text, `unsafe` for grouped (the unsafe fixes are marked as `--fix` takes them)."""
     if format == "text":
         return render_text(results, color=color)
+    if format == "grouped":
+        return render_grouped(results, unsafe=unsafe)
     return RENDERERS[format](results)
+
+
+# ---------------------------------------------------------------------------------------------
+# A lint run as a whole (`scriptc.ops.lint.LintRun`: `results`, `files`, `cached`, `fixed`,
+# `fixed_files`, `fixable`, `hidden_fixes`, `unsafe_fixes`)
+
+
+def render_statistics(run: Any, format: str) -> str:
+    """`lint --statistics`: how many diagnostics of each code, most frequent first (then by
+    code), with the code's name and `[*]` when `--fix` fixes every one of them (as ruff's);
+    as text, or as JSON (`code`, `name`, `severity`, `count`, `fixable`) with `format`
+    "json"."""
+    counts: dict[str, list] = {}
+    for _source, diagnostics in _pairs(run.results):
+        for d in diagnostics:
+            applies = d.fix is not None and (run.unsafe_fixes or d.fix.safe)
+            entry = counts.setdefault(d.code, [0, True, d.severity.value])
+            entry[0] += 1
+            entry[1] = entry[1] and applies
+    rows = sorted(counts.items(), key=lambda item: (-item[1][0], item[0]))
+    if format == "json":
+        import json
+
+        records = [{"code": code, "name": _code_name(code), "severity": severity,
+                    "count": count, "fixable": fixable}
+                   for code, (count, fixable, severity) in rows]
+        return json.dumps(records, indent=2, ensure_ascii=False) + "\n"
+    if not rows:
+        return ""
+    width = max(len(str(count)) for _code, (count, _f, _s) in rows)
+    any_fixable = any(fixable for _code, (_c, fixable, _s) in rows)
+    lines = []
+    for code, (count, fixable, _severity) in rows:
+        mark = ("[*] " if fixable else "    ") if any_fixable else ""
+        lines.append(f"{count:>{width}}\t{code}\t{mark}{_code_name(code)}\n")
+    return "".join(lines)
+
+
+def diff_summary(run: Any) -> str:
+    """The line `scriptc lint --diff` ends with on stderr."""
+    if run.fixed:
+        line = (f"would fix {plural(run.fixed, 'problem')} in "
+                f"{plural(run.fixed_files, 'file')}")
+    else:
+        line = "nothing to fix"
+    if run.hidden_fixes:
+        line += f" ({plural(run.hidden_fixes, 'more fix', 'more fixes')} with `--unsafe-fixes`)"
+    return line + "\n"
+
+
+def lint_summary(run: Any, several: bool = True) -> str:
+    """The lines `scriptc lint` ends with on stderr: what --fix did, and (`several` files)
+    what was found."""
+    lines = []
+    if run.fixed:
+        lines.append(f"fixed {plural(run.fixed, 'problem')} in "
+                     f"{plural(run.fixed_files, 'file')}")
+    if several:
+        counts = {s: 0 for s in Severity}
+        for _source, diagnostics in _pairs(run.results):
+            for d in diagnostics:
+                counts[d.severity] += 1
+        found = [plural(counts[Severity.ERROR], "error"),
+                 plural(counts[Severity.WARNING], "warning"),
+                 plural(counts[Severity.INFO], "info message")]
+        found = [f for f, s in zip(found, Severity) if counts[s]] or ["no problems"]
+        cached = f" ({run.cached} unchanged, from the cache)" if run.cached else ""
+        line = f"checked {plural(run.files, 'file')}{cached}: {', '.join(found)}"
+        if run.fixable:
+            flags = "--fix --unsafe-fixes" if run.unsafe_fixes else "--fix"
+            line += (f"; {plural(run.fixable, 'fix', 'fixes')} available "
+                     f"(`scriptc lint {flags}` applies {'it' if run.fixable == 1 else 'them'})")
+        hidden = run.hidden_fixes  # unsafe fixes, left out without --unsafe-fixes
+        if hidden and run.fixable:
+            line += f", {hidden} more with `--unsafe-fixes`"
+        elif hidden:
+            line += (f"; {plural(hidden, 'unsafe fix', 'unsafe fixes')} available (`scriptc "
+                     f"lint --fix --unsafe-fixes` applies {'it' if hidden == 1 else 'them'})")
+        lines.append(line)
+    return "".join(line + "\n" for line in lines)

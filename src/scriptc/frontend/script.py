@@ -21,6 +21,7 @@ from scriptc.diagnostics.codes import diagnostic
 from scriptc.gcpause import gc_paused
 from scriptc.ir import nodes as ir
 from scriptc.ir.fields import fields_pattern, read_number
+from scriptc.language import COMMENT_PATTERN, STRING_ESCAPES, STRING_PATTERN, TRACKS, unescape
 from scriptc.source import SourceFile, Span
 from scriptc.syntax.parser import ParsedScript, parse_condition_tree, parse_items
 
@@ -28,18 +29,11 @@ MOVE_FIELDS = ("v_x", "v_y", "v_theta", "wait_t", "duration")
 LED_FIELDS = ("r", "g", "b", "turnas", "wait_t", "duration")
 AUDIO_FIELDS = ("track_path", "wait_t", "duration")
 RULE_FIELDS = ("rulecode", "id", "intopic", "outtopic", "action", "mutex")
-TRACKS = ("MV", "LD", "AO")
 # A command string whose fields are all there and all numbers (the audio path aside).
 _WELL_FORMED = {"MV": fields_pattern(len(MOVE_FIELDS)), "LD": fields_pattern(len(LED_FIELDS)),
                 "AO": fields_pattern(len(AUDIO_FIELDS), text_first=True)}
 _ESCAPE = re.compile(r"\\(.)", re.DOTALL)
-_KNOWN_ESCAPE = re.compile(r'\\([\\"])')
 _TRUE_EVAL = re.compile(r"\{\s*TRUE\s*\}")
-
-
-def _unescape(text: str) -> str:
-    """Resolve `\\\\` and `\\"`; other escapes stay as written (P006 reported them)."""
-    return _KNOWN_ESCAPE.sub(r"\1", text) if "\\" in text else text
 
 
 _KINDS: dict[str, str] = {}
@@ -58,7 +52,8 @@ def _kind(node: Tree | Token) -> str:
 # script make hundreds of thousands of spans.
 _span = tuple.__new__
 
-_PARENS = re.compile(r'"(?:\\.|[^"\\])*"|[()]')
+# The parentheses of a condition, strings and comments skipped (either may hold one).
+_PARENS = re.compile(f"{STRING_PATTERN}|{COMMENT_PATTERN}|[()]")
 
 
 class Lowerer:
@@ -95,9 +90,9 @@ class Lowerer:
         if "\\" not in raw:
             return ir.Text(raw, span)
 
-        def unescape(m: re.Match) -> str:
+        def resolve(m: re.Match) -> str:
             ch = m.group(1)
-            if ch in '\\"':
+            if ch in STRING_ESCAPES:
                 return ch
             at = span.start + 1 + m.start()
             self.diagnostics.append(
@@ -112,7 +107,7 @@ class Lowerer:
             )
             return m.group(0)
 
-        return ir.Text(_ESCAPE.sub(unescape, raw), span)
+        return ir.Text(_ESCAPE.sub(resolve, raw), span)
 
     # -- the script -----------------------------------------------------------------------
 
@@ -468,7 +463,7 @@ class Lowerer:
             return ir.MoveCommand(*numbers, span=whole)
         if track == "LD":
             return ir.LedCommand(*numbers, span=whole)
-        return ir.AudioCommand(ir.Text(_unescape(fields[0][0]), fields[0][1]), *numbers, span=whole)
+        return ir.AudioCommand(ir.Text(unescape(fields[0][0]), fields[0][1]), *numbers, span=whole)
 
     # -- conditions -----------------------------------------------------------------------
 

@@ -9,7 +9,8 @@ so offsets and UTF-16 columns never drift apart, whatever the edits (UTF-8 and U
 clients cannot split a character).
 
 `Document.snapshot()` analyses the current text if it changed (`scriptc.ide.incremental`)
-and returns the `Snapshot` every editor feature reads.
+and returns the `Snapshot` every editor feature reads. `configured_document` opens a file's
+document under its repository's setup, as `scriptc lint` reads the file.
 """
 
 from __future__ import annotations
@@ -96,3 +97,20 @@ class Document:
     @property
     def analysed(self) -> bool:
         return self._snapshot is not None
+
+
+def configured_document(uri: str, text: str, version: int | None = None, *,
+                        path: str | None = None) -> tuple[Document, list]:
+    """A document with its repository's setup (`scriptc.project.setup`), as `scriptc lint`
+    reads the file `path`: the functions the configuration declares, its robot profile and
+    its policy (selection, per-file ignores, severities); with no `path` (a document that is
+    not a file), the defaults. Also returns the configuration's problems (each with its
+    `source` and `diagnostics`), which `scriptc lint` would show on stderr."""
+    if path is None:
+        return Document(uri, text, version, path=uri), []
+    from scriptc.project.setup import setup_for
+
+    setup = setup_for(path)
+    return Document(uri, text, version, path=path, functions=setup.functions,
+                    policy=lambda diagnostics: setup.apply(diagnostics, path),
+                    profile=setup.profile), setup.problems

@@ -12,14 +12,7 @@ from __future__ import annotations
 from scriptc.diagnostics.edits import minimal_edit
 from scriptc.diagnostics.model import TextEdit
 
-__all__ = ["format_document", "format_range", "available"]
-
-
-def available() -> bool:
-    """True when the formatter is installed in this tree (it is developed alongside)."""
-    import importlib.util
-
-    return importlib.util.find_spec("scriptc.formatter") is not None
+__all__ = ["format_document", "format_range"]
 
 
 def format_document(text: str) -> list[TextEdit] | None:

@@ -26,10 +26,11 @@ into `[...]` items and parses each one alone), which is what makes this cheap. P
 On a 90 KB script a keystroke costs about 12-15 ms of CPU, wherever it is (bench/bench_lsp.py
 gives the figures over stdio).
 
-The result is by construction what `scriptc.driver.analyze_script` gives for the same text:
+The result is by construction what `scriptc.analysis.analyze.analyze_script` gives for the
+same text (an `IncrementalAnalysis` is an `Analysis`):
 the same `parse_items` (given the spliced scan and a parser that answers from the cache of
 item texts) and the same `Lowerer.script` run, with the two per-item methods of the lowerer
-(`block`, `rule_message`) answered from the cache, then the same `scriptc.analysis.finish.finish`.
+(`block`, `rule_message`) answered from the cache, then the same `scriptc.analysis.analyze.finish`.
 `tests/test_ide_incremental.py` checks the equality with `analyze_script` (and of the spliced
 scan with a whole scan) over random edits.
 """
@@ -38,9 +39,9 @@ from __future__ import annotations
 
 import bisect
 import logging
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
-from scriptc.analysis.finish import finish
+from scriptc.analysis.analyze import Analysis, finish
 from scriptc.diagnostics.model import Diagnostic
 from scriptc.gcpause import gc_paused
 from scriptc.ide.pads import IDENTITY, Layout
@@ -56,7 +57,7 @@ from scriptc.syntax.scan import RawItem, Scan
 
 log = logging.getLogger(__name__)
 
-__all__ = ["Analyzer", "Stats", "Result"]
+__all__ = ["Analyzer", "IncrementalAnalysis", "Stats"]
 
 
 @dataclass
@@ -72,21 +73,25 @@ class Stats:
     shifted_lowerings: int = 0
 
 
-@dataclass
-class Result:
-    """One analysis: what the driver's `Analysis` holds, plus the scan and the parsed items
-    that editor features read (item boundaries, comments, broken items). Offsets are those of
-    `source.text`, the analysis text; `layout` converts them to offsets of `real`, the
-    document's text (see scriptc.ide.pads)."""
+class IncrementalAnalysis(Analysis):
+    """One analysis of a document: an `Analysis` (source, script, diagnostics, suppressed),
+    plus the scan and the parsed items that editor features read (item boundaries, comments,
+    broken items) and what the analysis reused (`stats`). Offsets are those of `source.text`,
+    the analysis text; `layout` converts them to offsets of `real`, the document's text (see
+    scriptc.ide.pads)."""
 
-    source: SourceFile
-    scan: Scan
-    parsed: ParsedScript
-    script: Script | None
-    diagnostics: list[Diagnostic]
-    stats: Stats = field(default_factory=Stats)
-    layout: Layout = IDENTITY
-    real: str | None = None
+    __slots__ = ("scan", "parsed", "stats", "layout", "real")
+
+    def __init__(self, source: SourceFile, scan: Scan, parsed: ParsedScript,
+                 script: Script | None, diagnostics: list[Diagnostic],
+                 suppressed: list[Diagnostic] | None = None, stats: Stats | None = None,
+                 layout: Layout = IDENTITY, real: str | None = None) -> None:
+        super().__init__(source, script, diagnostics, suppressed)
+        self.scan = scan
+        self.parsed = parsed
+        self.stats = Stats() if stats is None else stats
+        self.layout = layout
+        self.real = real
 
 
 class _Entry:
@@ -207,8 +212,8 @@ MAX_PAD = 4096
 
 class Analyzer:
     """The analysis of one document as it changes. `analyze(text, edits=...)` gives the same
-    result as `scriptc.driver.analyze_script` for that text (in the offsets of the analysis
-    text: see `scriptc.ide.pads`), reusing what it can of the previous call. Not
+    result as `scriptc.analysis.analyze.analyze_script` for that text (in the offsets of the
+    analysis text: see `scriptc.ide.pads`), reusing what it can of the previous call. Not
     thread-safe: one analyzer per document, used from one thread."""
 
     def __init__(self, functions: FunctionRegistry = STANDARD, *, slack: bool = False,
@@ -350,7 +355,7 @@ class Analyzer:
         self._text, self._pads = "".join(pieces), pads
         return _scan.scan(self._text)
 
-    def analyze(self, text: str, path: str = "", edits=None) -> Result:
+    def analyze(self, text: str, path: str = "", edits=None) -> IncrementalAnalysis:
         """Analyse the document's `text`; `edits` are the changes since the last call (None:
         unknown, or a new document), which let the analysis keep its pads."""
         if self._follow(text, edits):
@@ -366,7 +371,7 @@ class Analyzer:
         result.real = text
         return result
 
-    def _analyze(self, text: str, scanned: Scan, path: str) -> Result:
+    def _analyze(self, text: str, scanned: Scan, path: str) -> IncrementalAnalysis:
         source = SourceFile(path, text)
         self._stats = stats = Stats()
         # Entries not used by this analysis are kept for the next one only (an undo, a
@@ -384,7 +389,8 @@ class Analyzer:
             self._spare, self._previous = self._previous, {}
             self._by_tree = {}
             stats.items = len(scanned.items)
-            diagnostics, _suppressed = finish(source, script, lowerer.diagnostics,
-                                              functions=self.functions, profile=self.profile)
-        return Result(source, scanned, parsed, script, diagnostics, stats)
+            diagnostics, suppressed = finish(source, script, lowerer.diagnostics,
+                                             functions=self.functions, profile=self.profile)
+        return IncrementalAnalysis(source, scanned, parsed, script, diagnostics, suppressed,
+                                   stats)
 

@@ -15,7 +15,7 @@ import bisect
 from functools import cached_property
 
 from scriptc.diagnostics.model import Diagnostic, has_errors
-from scriptc.ide.incremental import Result, Stats
+from scriptc.ide.incremental import IncrementalAnalysis, Stats
 from scriptc.ide.pads import Layout
 from scriptc.ir.builtins import STANDARD, FunctionRegistry
 from scriptc.ir.nodes import Script
@@ -24,7 +24,7 @@ from scriptc.syntax.scan import RawItem
 
 
 class Snapshot:
-    def __init__(self, result: Result, version: int | None = None,
+    def __init__(self, result: IncrementalAnalysis, version: int | None = None,
                  functions: FunctionRegistry = STANDARD, policy=None) -> None:
         self.result = result
         self.version = version

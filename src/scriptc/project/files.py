@@ -1,5 +1,6 @@
 """Finding the script files of a folder for `scriptc lint DIR`: a walk that skips hidden files
-and folders, what `.gitignore` files ignore, and what the configuration excludes.
+and folders, what `.gitignore` files ignore, and what the configuration excludes; and the
+files a run of `lint`, `check` or `fmt` reads from its command line's paths (`discover`).
 
 The .gitignore rules are git's (matched by `pathspec`, whose GitIgnoreSpec follows git's
 behaviour): every `.gitignore` from the repository's root down to the file applies, with
@@ -22,6 +23,8 @@ from collections.abc import Callable
 from typing import Any
 
 from scriptc.paths import repository_root, shown_path
+from scriptc.source import SourceKind
+from scriptc.writing import without_bom
 
 SCRIPT_SUFFIX = ".script"
 
@@ -177,3 +180,61 @@ class Walker:
                     found.append(os.path.join(shown, name))
         found.sort()
         return found
+
+
+def discover(paths: list[str] | tuple[str, ...], kind: SourceKind = SourceKind.SCRIPT, *,
+             resolver: Any = None, force_exclude: bool = False) -> tuple[list[str], list[str]]:
+    """The files `scriptc lint PATH...`, `scriptc check PATH...` and `scriptc fmt PATH...`
+    read, in order, and the problems met finding them. A file named on the command line is
+    read whatever its suffix; a folder contributes its `*.script` files (for thesis JSON:
+    its `.json` files that are thesis scripts, `is_thesis_json`), recursively and sorted,
+    skipping hidden files and folders, what .gitignore files ignore and what the
+    configuration (`resolver`, a `scriptc.project.config.Resolver`) excludes; `-` (stdin) is
+    kept; a file reached twice is read once. A path that does not exist and a folder that
+    cannot be read are problems, each named, and the other paths go on. With
+    `force_exclude` the configuration's `exclude` applies to files named on the command line
+    too (for pre-commit, which names every changed file)."""
+    json = kind == SourceKind.JSON
+    walker = Walker(resolver.for_folder if resolver is not None else None,
+                    suffix=".json" if json else SCRIPT_SUFFIX,
+                    accept=is_thesis_json if json else None)
+    found: list[str] = []
+    problems: list[str] = []
+    seen: set[str] = set()
+    for path in paths:
+        if path != "-" and not os.path.lexists(path):
+            problems.append(f"`{shown_path(path)}` does not exist")
+            continue
+        if path != "-" and os.path.isdir(path):
+            inner = walker.walk(path)
+            problems += walker.problems
+            walker.problems.clear()
+        elif force_exclude and path != "-" and walker.excluded(os.path.abspath(path), False):
+            inner = []
+        else:
+            inner = [path]
+        for p in inner:
+            key = p if p == "-" else os.path.realpath(p)
+            if key not in seen:
+                seen.add(key)
+                found.append(p)
+    return found, problems
+
+
+def is_thesis_json(path: str) -> bool:
+    """Whether a `.json` file met in a folder is a thesis script (not a scenario, not a
+    `package.json`): its top-level object has `activityname`; or, when it does not read as
+    JSON at all (a broken script is still a script), its text names `"activityname"`. A file
+    that cannot be read counts, so that reading it reports why."""
+    import json
+
+    try:
+        with open(path, "rb") as f:
+            data = without_bom(f.read())
+    except OSError:
+        return True
+    try:
+        value = json.loads(data)
+    except (ValueError, RecursionError):
+        return b'"activityname"' in data
+    return isinstance(value, dict) and "activityname" in value

@@ -14,12 +14,14 @@ Shared by every executor (what a bytecode VM reuses as it is):
 - `scenario`    world files: timed MapUpdates and operator events
 - `trace`       JSON-lines traces
 - `session`     the LIFO, `idle_activity` (`idle`), the loop of thesis 4.2
+- `loading`     `Loader`, the protocol by which a session loads a script met by path
 
 Executor-specific (one per way of reading a script's blocks; `executor.py` is the contract):
 
 - `interp`      the reference interpreter over the IR (the executable spec)
 
-Nothing here imports the driver or the CLI; `scriptc run` (cli/run.py) glues them together.
+Nothing here imports `scriptc.ops` or the CLI: `scriptc run` (`scriptc.ops.programs`, cli/run.py)
+builds the programs and hands the session a loader (`loading.Loader`) for scripts met by path.
 """
 
 from __future__ import annotations
@@ -27,7 +29,8 @@ from __future__ import annotations
 _EXPORTS = {
     "Session": "scriptc.runtime.session",
     "Result": "scriptc.runtime.session",
-    "LoadError": "scriptc.runtime.session",
+    "LoadError": "scriptc.runtime.loading",
+    "Loader": "scriptc.runtime.loading",
     "IRProgram": "scriptc.runtime.interp",
     "Trace": "scriptc.runtime.trace",
     "load_scenario": "scriptc.runtime.scenario",

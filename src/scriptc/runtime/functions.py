@@ -25,11 +25,9 @@ from dataclasses import dataclass
 from typing import Any
 
 from scriptc.ir.builtins import STANDARD_FUNCTIONS, Function, FunctionRegistry, Param
-from scriptc.language import name_problem
+from scriptc.language import FUNCTION_KINDS, name_problem
 from scriptc.runtime.commands import Value, as_number, compare, to_text
 from scriptc.runtime.world import Entity, World
-
-KINDS = ("B", "F", "E")
 
 
 class CallContext:
@@ -85,8 +83,9 @@ class Implementations:
     def register(self, name: str, kind: str, arity: int, fn: Callable[..., Any], doc: str = "",
                  params: tuple[str, ...] = (), origin: str = "user") -> FunctionImpl:
         """Add (or replace) a function. `fn(call, *args)`; see the module's docstring."""
-        if kind not in KINDS:
-            raise ValueError(f"a function's kind is B, F or E, not {kind!r}")
+        if kind not in FUNCTION_KINDS:
+            raise ValueError(f"a function's kind is one of {', '.join(FUNCTION_KINDS)}, "
+                             f"not {kind!r}")
         problem = name_problem(name) if isinstance(name, str) else "a name is a string"
         if problem is not None:
             raise ValueError(f"{name!r} is not a function name: {problem}")

@@ -59,6 +59,7 @@ from scriptc.runtime.rules import (
     UnknownRule,
 )
 from scriptc.runtime.scenario import OperatorEvent, Scenario, TimedUpdate
+from scriptc.runtime.loading import LoadError, Loader
 from scriptc.runtime.trace import Trace
 from scriptc.runtime.commands import Position, RuleMessage
 from scriptc.runtime.world import MapUpdate, UpdateError, World, parse_update
@@ -66,10 +67,6 @@ from scriptc.runtime.world import MapUpdate, UpdateError, World, parse_update
 # Loops at one instant before the session gives up: a cycle of jumps and blocks that take no
 # time, or rules that keep raising work, never let time pass.
 MAX_LOOPS_PER_INSTANT = 10_000
-
-
-class LoadError(Exception):
-    """A script that cannot be loaded (a loader's failure: missing file, compile errors)."""
 
 
 @dataclass
@@ -136,7 +133,8 @@ class Session:
                  functions: Implementations = STANDARD_IMPLEMENTATIONS,
                  rules: RuleLibrary = STANDARD_RULES, trace: Trace | None = None,
                  idle: Program | None = None, stop_when_done: bool = True,
-                 catalogue: list[Program] | tuple[Program, ...] = (), loader=None,
+                 catalogue: list[Program] | tuple[Program, ...] = (),
+                 loader: Loader | None = None,
                  max_loops_per_instant: int = MAX_LOOPS_PER_INSTANT,
                  profile=None) -> None:
         self.max_loops = max_loops_per_instant

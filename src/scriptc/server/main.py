@@ -1,7 +1,10 @@
 """`scriptc lsp`: the language server, a thin pygls shell over `scriptc.ide`.
 
-Each handler gets the document, calls one function of the editor API with offsets, and
-converts the answer back (`scriptc.server.convert`); none holds logic of its own.
+Every request about a document takes one path (`_request`): the document (a request about a
+document that is not open is answered None), analysed or not as the feature needs, its
+positions in the negotiated encoding, and the offset of the request's position; the handler
+then calls one function of the editor API with offsets and converts the answer back
+(`scriptc.server.convert`). None holds logic of its own.
 
 Decisions:
 
@@ -60,7 +63,7 @@ from pygls.protocol.json_rpc import JsonRPCResponseMessage
 
 from scriptc import __version__
 from scriptc.ide import actions, completion, formatting, hints, hover, navigation, outline, tokens
-from scriptc.ide.document import Document
+from scriptc.ide.document import Document, configured_document
 from scriptc.project.config.load import CONFIG_FILES
 from scriptc.ide.answers import RenameError
 from scriptc.server import convert
@@ -381,27 +384,21 @@ def did_change_watched_files(ls: ScriptcServer, params: lsp.DidChangeWatchedFile
 
 
 def _configured(uri: str, text: str, version: int | None) -> Document:
-    """A document with its repository's configuration, as `scriptc lint` reads it: the
-    functions it declares and its policy (selection, per-file ignores, severities). A
-    document that is not a file, or whose configuration cannot be read, gets the defaults;
-    the configuration's own problems are logged (scriptc lint shows them on stderr)."""
-    path = _path(uri)
-    if not uri.startswith("file:"):
-        return Document(uri, text, version, path=path)
+    """The document with its repository's setup (`scriptc.ide.document.configured_document`);
+    the configuration's own problems are logged (scriptc lint shows them on stderr). A
+    configuration that cannot be read at all gets the defaults, logged: it must not cost the
+    session."""
+    path = _path(uri) if uri.startswith("file:") else None
     try:
-        from scriptc.driver import settings_for
-
-        settings, reports = settings_for(path)
+        doc, problems = configured_document(uri, text, version, path=path)
     except Exception:  # noqa: BLE001 - a broken configuration must not cost the session
         log.exception("cannot read the configuration of %s", path)
-        return Document(uri, text, version, path=path)
-    for report in reports:
-        for d in report.diagnostics:
-            log.warning("%s: %s[%s] %s", report.path, d.severity.value, d.code, d.message)
-
-    return Document(uri, text, version, path=path, functions=settings.registry,
-                    policy=lambda diagnostics: settings.apply(diagnostics, path),
-                    profile=settings.robot)
+        return Document(uri, text, version, path=_path(uri))
+    for problem in problems:
+        for d in problem.diagnostics:
+            log.warning("%s: %s[%s] %s", problem.source.path, d.severity.value, d.code,
+                        d.message)
+    return doc
 
 
 @SERVER.feature(lsp.TEXT_DOCUMENT_DID_OPEN)
@@ -465,160 +462,149 @@ def explain(ls: ScriptcServer, *args) -> str | None:
     return hover.code_markdown(args[0].upper()) if args[0].upper() in REGISTRY else None
 
 
-# -- reading features -----------------------------------------------------------------------------
+# -- requests about a document ------------------------------------------------------------------
 
 
-def _at(ls: ScriptcServer, params):
-    """The snapshot of the request's document, its position converter, and the snapshot
-    offset of the request's position."""
-    snapshot = ls.snapshot(params.text_document.uri)
-    if snapshot is None:
-        return None, None, 0
-    p = convert.positions(snapshot, ls.encoding)
-    return snapshot, p, p.offset(params.position)
+class At:
+    """Where a request is, as its handler reads it: the `document`, its `snapshot` (None
+    for a feature of the text alone: formatting), the `positions` converter of the text the
+    feature works on, and the `offset` of the request's position (None without one)."""
+
+    __slots__ = ("document", "snapshot", "positions", "offset")
+
+    def __init__(self, document: Document, snapshot, positions, offset: int | None) -> None:
+        self.document = document
+        self.snapshot = snapshot
+        self.positions = positions
+        self.offset = offset
 
 
-def _whole(ls: ScriptcServer, params):
-    snapshot = ls.snapshot(params.text_document.uri)
-    return snapshot, (convert.positions(snapshot, ls.encoding) if snapshot is not None else None)
+def _request(method: str, options=None, *, analysed: bool = True, position: bool = False):
+    """Register the handler of a request about a document, through the one path: the
+    document (None answers a request about a document that is not open), its snapshot when
+    the feature reads the analysis (`analysed`; else its own text: formatting's edits are of
+    the document's text), the positions in the negotiated encoding, and the offset of
+    `params.position` (`position`). The handler gets `(ls, params, at)`."""
+
+    def register(answer):
+        def handle(ls: ScriptcServer, params):
+            doc = ls.document(params.text_document.uri)
+            if doc is None:
+                return None
+            if analysed:
+                snapshot = ls.analysed(doc)
+                positions = convert.positions(snapshot, ls.encoding)
+            else:
+                snapshot, positions = None, convert.text_positions(doc.text, ls.encoding)
+            offset = positions.offset(params.position) if position else None
+            return answer(ls, params, At(doc, snapshot, positions, offset))
+
+        handle.__name__ = answer.__name__
+        handle.__qualname__ = answer.__qualname__
+        handle.__doc__ = answer.__doc__
+        handle.answers = answer  # the one path's mark (tests/lsp check every handler has it)
+        SERVER.feature(method, options)(handle)
+        return handle
+
+    return register
 
 
-@SERVER.feature(lsp.TEXT_DOCUMENT_HOVER)
-def on_hover(ls: ScriptcServer, params: lsp.HoverParams):
-    snapshot, p, offset = _at(ls, params)
-    if snapshot is None:
-        return None
-    return convert.hover(p, hover.hover(snapshot, offset))
+@_request(lsp.TEXT_DOCUMENT_HOVER, position=True)
+def on_hover(ls: ScriptcServer, params: lsp.HoverParams, at: At):
+    return convert.hover(at.positions, hover.hover(at.snapshot, at.offset))
 
 
-@SERVER.feature(lsp.TEXT_DOCUMENT_COMPLETION,
-                lsp.CompletionOptions(trigger_characters=["[", "#", "(", ":", "&", "?", "{", ","]))
-def on_completion(ls: ScriptcServer, params: lsp.CompletionParams):
-    snapshot, p, offset = _at(ls, params)
-    if snapshot is None:
-        return None
-    return convert.completion_list(p, completion.complete(snapshot, offset), ls.snippets,
-                                   ls.markdown_docs)
+@_request(lsp.TEXT_DOCUMENT_COMPLETION,
+          lsp.CompletionOptions(trigger_characters=["[", "#", "(", ":", "&", "?", "{", ","]),
+          position=True)
+def on_completion(ls: ScriptcServer, params: lsp.CompletionParams, at: At):
+    return convert.completion_list(at.positions, completion.complete(at.snapshot, at.offset),
+                                   ls.snippets, ls.markdown_docs)
 
 
-@SERVER.feature(lsp.TEXT_DOCUMENT_DEFINITION)
-def on_definition(ls: ScriptcServer, params: lsp.DefinitionParams):
-    snapshot, p, offset = _at(ls, params)
-    if snapshot is None:
-        return None
-    spans = navigation.definition(snapshot, offset)
-    return convert.locations(p, params.text_document.uri, spans) or None
+@_request(lsp.TEXT_DOCUMENT_DEFINITION, position=True)
+def on_definition(ls: ScriptcServer, params: lsp.DefinitionParams, at: At):
+    spans = navigation.definition(at.snapshot, at.offset)
+    return convert.locations(at.positions, params.text_document.uri, spans) or None
 
 
-@SERVER.feature(lsp.TEXT_DOCUMENT_REFERENCES)
-def on_references(ls: ScriptcServer, params: lsp.ReferenceParams):
-    snapshot, p, offset = _at(ls, params)
-    if snapshot is None:
-        return None
-    spans = navigation.references(snapshot, offset, params.context.include_declaration)
-    return convert.locations(p, params.text_document.uri, spans) or None
+@_request(lsp.TEXT_DOCUMENT_REFERENCES, position=True)
+def on_references(ls: ScriptcServer, params: lsp.ReferenceParams, at: At):
+    spans = navigation.references(at.snapshot, at.offset, params.context.include_declaration)
+    return convert.locations(at.positions, params.text_document.uri, spans) or None
 
 
 def _rename_failed(error: RenameError) -> Refusal:
     return Refusal(message=str(error))
 
 
-@SERVER.feature(lsp.TEXT_DOCUMENT_PREPARE_RENAME)
-def on_prepare_rename(ls: ScriptcServer, params: lsp.PrepareRenameParams):
-    snapshot, p, offset = _at(ls, params)
-    if snapshot is None:
-        return None
+@_request(lsp.TEXT_DOCUMENT_PREPARE_RENAME, position=True)
+def on_prepare_rename(ls: ScriptcServer, params: lsp.PrepareRenameParams, at: At):
     try:
-        span, name = navigation.prepare_rename(snapshot, offset)
+        span, name = navigation.prepare_rename(at.snapshot, at.offset)
     except RenameError as error:
         raise _rename_failed(error) from None
-    return lsp.PrepareRenamePlaceholder(p.range(span), name)
+    return lsp.PrepareRenamePlaceholder(at.positions.range(span), name)
 
 
-@SERVER.feature(lsp.TEXT_DOCUMENT_RENAME, lsp.RenameOptions(prepare_provider=True))
-def on_rename(ls: ScriptcServer, params: lsp.RenameParams):
-    snapshot, p, offset = _at(ls, params)
-    if snapshot is None:
-        return None
+@_request(lsp.TEXT_DOCUMENT_RENAME, lsp.RenameOptions(prepare_provider=True), position=True)
+def on_rename(ls: ScriptcServer, params: lsp.RenameParams, at: At):
     try:
-        edits = navigation.rename(snapshot, offset, params.new_name)
+        edits = navigation.rename(at.snapshot, at.offset, params.new_name)
     except RenameError as error:
         raise _rename_failed(error) from None
-    return convert.workspace_edit(p, params.text_document.uri, edits)
+    return convert.workspace_edit(at.positions, params.text_document.uri, edits)
 
 
-@SERVER.feature(lsp.TEXT_DOCUMENT_DOCUMENT_SYMBOL)
-def on_document_symbol(ls: ScriptcServer, params: lsp.DocumentSymbolParams):
-    snapshot, p = _whole(ls, params)
-    if snapshot is None:
-        return None
-    return convert.document_symbols(p, outline.document_symbols(snapshot))
+@_request(lsp.TEXT_DOCUMENT_DOCUMENT_SYMBOL)
+def on_document_symbol(ls: ScriptcServer, params: lsp.DocumentSymbolParams, at: At):
+    return convert.document_symbols(at.positions, outline.document_symbols(at.snapshot))
 
 
-@SERVER.feature(lsp.TEXT_DOCUMENT_FOLDING_RANGE)
-def on_folding_range(ls: ScriptcServer, params: lsp.FoldingRangeParams):
-    snapshot, p = _whole(ls, params)
-    if snapshot is None:
-        return None
-    return convert.folding_ranges(p, outline.folding_ranges(snapshot))
+@_request(lsp.TEXT_DOCUMENT_FOLDING_RANGE)
+def on_folding_range(ls: ScriptcServer, params: lsp.FoldingRangeParams, at: At):
+    return convert.folding_ranges(at.positions, outline.folding_ranges(at.snapshot))
 
 
-@SERVER.feature(lsp.TEXT_DOCUMENT_SEMANTIC_TOKENS_FULL, convert.LEGEND)
-def on_semantic_tokens(ls: ScriptcServer, params: lsp.SemanticTokensParams):
-    snapshot, p = _whole(ls, params)
-    if snapshot is None:
-        return None
-    return convert.semantic_tokens(p, tokens.semantic_tokens(snapshot))
+@_request(lsp.TEXT_DOCUMENT_SEMANTIC_TOKENS_FULL, convert.LEGEND)
+def on_semantic_tokens(ls: ScriptcServer, params: lsp.SemanticTokensParams, at: At):
+    return convert.semantic_tokens(at.positions, tokens.semantic_tokens(at.snapshot))
 
 
-@SERVER.feature(lsp.TEXT_DOCUMENT_SEMANTIC_TOKENS_RANGE, convert.LEGEND)
-def on_semantic_tokens_range(ls: ScriptcServer, params: lsp.SemanticTokensRangeParams):
-    snapshot, p = _whole(ls, params)
-    if snapshot is None:
-        return None
-    return convert.semantic_tokens(p, tokens.semantic_tokens(snapshot, p.span(params.range)))
+@_request(lsp.TEXT_DOCUMENT_SEMANTIC_TOKENS_RANGE, convert.LEGEND)
+def on_semantic_tokens_range(ls: ScriptcServer, params: lsp.SemanticTokensRangeParams, at: At):
+    span = at.positions.span(params.range)
+    return convert.semantic_tokens(at.positions, tokens.semantic_tokens(at.snapshot, span))
 
 
-@SERVER.feature(lsp.TEXT_DOCUMENT_CODE_ACTION,
-                lsp.CodeActionOptions(code_action_kinds=[lsp.CodeActionKind.QuickFix,
-                                                         lsp.CodeActionKind.SourceFixAll]))
-def on_code_action(ls: ScriptcServer, params: lsp.CodeActionParams):
-    snapshot, p = _whole(ls, params)
-    if snapshot is None:
-        return None
+@_request(lsp.TEXT_DOCUMENT_CODE_ACTION,
+          lsp.CodeActionOptions(code_action_kinds=[lsp.CodeActionKind.QuickFix,
+                                                   lsp.CodeActionKind.SourceFixAll]))
+def on_code_action(ls: ScriptcServer, params: lsp.CodeActionParams, at: At):
     only = tuple(str(getattr(k, "value", k)) for k in params.context.only or ()) or None
-    found = actions.code_actions(snapshot, p.span(params.range), only)
-    return convert.code_actions(p, params.text_document.uri, found) or None
+    found = actions.code_actions(at.snapshot, at.positions.span(params.range), only)
+    return convert.code_actions(at.positions, params.text_document.uri, found) or None
 
 
-@SERVER.feature(lsp.TEXT_DOCUMENT_INLAY_HINT)
-def on_inlay_hint(ls: ScriptcServer, params: lsp.InlayHintParams):
-    snapshot, p = _whole(ls, params)
-    if snapshot is None:
-        return None
-    return convert.inlay_hints(p, hints.inlay_hints(snapshot, p.span(params.range)))
+@_request(lsp.TEXT_DOCUMENT_INLAY_HINT)
+def on_inlay_hint(ls: ScriptcServer, params: lsp.InlayHintParams, at: At):
+    span = at.positions.span(params.range)
+    return convert.inlay_hints(at.positions, hints.inlay_hints(at.snapshot, span))
 
 
 # Formatting works on the document's own text (not the analysis text), so its edits are
 # converted with the document's positions.
 
-@SERVER.feature(lsp.TEXT_DOCUMENT_FORMATTING)
-def on_formatting(ls: ScriptcServer, params: lsp.DocumentFormattingParams):
-    doc = ls.document(params.text_document.uri)
-    if doc is None or not formatting.available():
-        return None
-    p = convert.text_positions(doc.text, ls.encoding)
-    return convert.text_edit_list(p, formatting.format_document(doc.text))
+@_request(lsp.TEXT_DOCUMENT_FORMATTING, analysed=False)
+def on_formatting(ls: ScriptcServer, params: lsp.DocumentFormattingParams, at: At):
+    return convert.text_edit_list(at.positions, formatting.format_document(at.document.text))
 
 
-@SERVER.feature(lsp.TEXT_DOCUMENT_RANGE_FORMATTING)
-def on_range_formatting(ls: ScriptcServer, params: lsp.DocumentRangeFormattingParams):
-    doc = ls.document(params.text_document.uri)
-    if doc is None or not formatting.available():
-        return None
-    p = convert.text_positions(doc.text, ls.encoding)
-    span = p.span(params.range)
-    return convert.text_edits(p, formatting.format_range(doc.text, span.start, span.end))
+@_request(lsp.TEXT_DOCUMENT_RANGE_FORMATTING, analysed=False)
+def on_range_formatting(ls: ScriptcServer, params: lsp.DocumentRangeFormattingParams, at: At):
+    span = at.positions.span(params.range)
+    return convert.text_edits(at.positions,
+                              formatting.format_range(at.document.text, span.start, span.end))
 
 
 # -- running --------------------------------------------------------------------------------------

@@ -23,6 +23,7 @@ from lark.lexer import PatternStr
 
 from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit
 from scriptc.diagnostics.codes import diagnostic
+from scriptc.language import NAME_CHARS, OPEN_COMMENT_PATTERN, OPEN_STRING_PATTERN, OPERATORS
 from scriptc.resources import grammar_path
 from scriptc.source import Span
 from scriptc.syntax.lexer import ContextualFastLexer
@@ -119,6 +120,7 @@ def parse_condition_tree(text: str, base: int = 0) -> tuple[Tree | None, list[Di
 # Error messages for people
 
 # How terminals are named in messages, by their name in the grammar (namespace stripped).
+_COMPARISONS = ", ".join(f"`{op}`" for op in list(OPERATORS)[:-1]) + f" or `{list(OPERATORS)[-1]}`"
 _TERMINAL_WORDS = {
     "NAME": "a name",
     "NUMBER": "a number",
@@ -128,15 +130,15 @@ _TERMINAL_WORDS = {
     "CLASS_REF": "a class such as `#Human`",
     "VAR_REF": "a variable such as `@count`",
     "ATT_REF": "an attribute such as `$mood`",
-    "OPERATOR": "a comparison (`OP=`, `OP<` or `OP>`)",
+    "OPERATOR": f"a comparison ({_COMPARISONS})",
     "FIELD_ACCESS": "`>&`",
     "ATT_ACCESS": "`>$`",
     "$END": "the end of the text",
 }
 _OPENERS = {"(": ")", "{": "}", "[": "]"}
 _CLOSERS = {v: k for k, v in _OPENERS.items()}
-_WORD_CHARS = frozenset("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz_")
-_SKIP = re.compile(r'"(?:\\.|[^"\\])*"?|%[^%]*%?|[()\[\]{}]')
+# What the search for the delimiter still open skips: strings and comments, closed or not.
+_SKIP = re.compile(rf"{OPEN_STRING_PATTERN}|{OPEN_COMMENT_PATTERN}|[()\[\]{{}}]")
 
 
 def _bare(name: str) -> str:
@@ -185,7 +187,7 @@ def _open_delimiter(text: str, upto: int) -> tuple[int, str] | None:
     while end > 0 and text[end - 1].isspace():
         end -= 1
     start = end
-    while start > 0 and text[start - 1] in _WORD_CHARS:
+    while start > 0 and text[start - 1] in NAME_CHARS:
         start -= 1
     return at, text[start:end] + "("
 
@@ -212,7 +214,7 @@ def describe(error: UnexpectedInput, text: str, base: int, parser: Lark) -> Diag
             span = Span(base + at, base + at + 1)
             return diagnostic(
                 "P001",
-                f"expected a comparison (`OP=`, `OP<` or `OP>`), found `{ch}`",
+                f"expected a comparison ({_COMPARISONS}), found `{ch}`",
                 span,
                 help=f"comparisons are written `OP{ch}` in the rule grammar",
                 fix=Fix(f"write `OP{ch}`", (TextEdit(span, f"OP{ch}"),)),

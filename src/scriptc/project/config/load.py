@@ -22,12 +22,13 @@ from scriptc.project.config.settings import (ALL, SEVERITIES, RuleSelection, Set
                                              UserRule)
 from scriptc.diagnostics.model import Diagnostic
 from scriptc.diagnostics.codes import diagnostic
-from scriptc.language import is_name
+from scriptc.language import FUNCTION_KINDS, is_name
 from scriptc.numbers import MAX_DIGITS, number_problem
 from scriptc.paths import shown_path
 from scriptc.robot.limits import LIMITS
 from scriptc.robot.profile import Profile
 from scriptc.source import SourceFile, Span
+from scriptc.writing import without_bom
 
 CONFIG_FILES = ("scriptc.toml", "pyproject.toml")
 # Patterns are compiled on first use (`re` caches them): most runs never need them.
@@ -191,7 +192,7 @@ def load_config(path: str, cache: Any = None, *, pyproject: bool | None = None) 
     file_digest = digest(data)
     base = Settings(path=path, root=root, digest=file_digest)
     try:
-        text = data.decode("utf-8").removeprefix("\ufeff")
+        text = without_bom(data).decode("utf-8")
     except UnicodeDecodeError as exc:
         source = SourceFile(shown, data.decode("utf-8", errors="replace"))
         return ConfigFile(base, source, [diagnostic(
@@ -306,7 +307,7 @@ def build_settings(table: dict[str, Any], *, path: str | None = None, root: str 
             arity = len(params) if isinstance(item.get("params"), list) else None
         if params and len(params) != arity:
             params = ()
-        if name is None or kind not in ("B", "F", "E") or implementation is None or \
+        if name is None or kind not in FUNCTION_KINDS or implementation is None or \
                 arity is None or STANDARD.get(name) is not None or \
                 any(f.name == name for f in functions):
             continue

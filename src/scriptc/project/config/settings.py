@@ -17,7 +17,7 @@ from functools import cached_property
 from typing import Any, NamedTuple
 
 from scriptc.diagnostics.model import Diagnostic, Severity
-from scriptc.ir.builtins import STANDARD, Function, FunctionRegistry, Param
+from scriptc.ir.builtins import Function, Param
 from scriptc.robot.profile import DEFAULT_PROFILE, Profile
 
 ALL = "ALL"
@@ -220,14 +220,6 @@ class Settings:
 
     def __repr__(self) -> str:
         return "Settings(" + ", ".join(f"{n}={getattr(self, n)!r}" for n in self.FIELDS) + ")"
-
-    @cached_property
-    def registry(self) -> FunctionRegistry:
-        """The function registry the checks use: the standard functions and the declared
-        ones."""
-        if not self.functions:
-            return STANDARD
-        return STANDARD.extended(f.signature for f in self.functions)
 
     @property
     def audio_root_path(self) -> str:
