@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-from scriptc.emit.condition import condition_text, quote
+from scriptc.emit.condition import condition_text
+from scriptc.language import quote
 from scriptc.ir import nodes as ir
 from scriptc.frontend.script import parse_condition
 from scriptc.source import Span

@@ -72,3 +72,16 @@ def test_audio_paths(ao: str, monkeypatch: pytest.MonkeyPatch) -> None:
     blanks of a blank last part included (found by the property above)."""
     text = f'[a]\n[goal:g]\n[action]\n[b#x#blk_inst: MV() LD() AO("{ao}")]\n'
     assert lowered(text) == field_by_field(text, monkeypatch)
+
+
+@pytest.mark.parametrize("inside", ['% a ) here %', '% ( %', 'E: eq("(", ")")'])
+def test_the_condition_of_a_jump_ends_at_its_own_parenthesis(inside: str) -> None:
+    """A `)` inside a comment or a string of `CND(...)` does not end the condition (a comment
+    cut the condition text short, `! {TRUE} % a`, an unterminated comment)."""
+    condition = f"! {{{inside}}}" if inside.startswith("E:") else f"! {{TRUE}} {inside}"
+    text = (f"[a]\n[goal:g]\n[action]\n[b#j#blk_jump: CND({condition}) TRJMP() FLSJMP()]\n"
+            "[b##blk_terminus]\n")
+    script, diagnostics = lower_script(SourceFile("a.script", text))
+    assert diagnostics == []
+    jump = script.goals[0].actions[0].blocks[0]
+    assert jump.condition_text == condition

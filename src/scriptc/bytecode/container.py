@@ -11,6 +11,8 @@ from __future__ import annotations
 import struct
 from dataclasses import dataclass
 
+from scriptc.language import MUTEXES, RULE_ACTIONS
+
 __all__ = [
     "MAGIC",
     "FORMAT_VERSION",
@@ -105,8 +107,8 @@ MESSAGE = Record("message", (
     ("id", "I", "the rule's id (text constant)"),
     ("intopic", "I", "input topic (text constant)"),
     ("outtopic", "I", "output topic (text constant)"),
-    ("action", "B", "ASCII code of the action letter: A R D B C"),
-    ("mutex", "B", "ASCII code of the mutex letter: L M U"),
+    ("action", "B", f"ASCII code of the action letter: {' '.join(RULE_ACTIONS)}"),
+    ("mutex", "B", f"ASCII code of the mutex letter: {' '.join(MUTEXES)}"),
     ("start", "I", "source span: first character (offset in code points)"),
     ("end", "I", "source span: end (exclusive)"),
 ), "One alfa or omega rule message (thesis table 3.1).")

@@ -16,10 +16,12 @@ from scriptc.bytecode.code import instructions
 from scriptc.bytecode.container import FORMAT_VERSION
 from scriptc.bytecode.opcodes import BLOCK_KINDS, Opcode
 from scriptc.bytecode.program import Program
+from scriptc.language import NAME_PATTERN, SIGILS
 
 __all__ = ["disassemble", "render_operands"]
 
-_PLAIN_NAME = re.compile(r"[?@$#&]?[A-Za-z_][A-Za-z0-9_-]*\Z")
+# A name shown bare: a name of the language, perhaps after its sigil (`&` marks a field).
+_PLAIN_NAME = re.compile(f"[{re.escape(''.join(SIGILS.values()))}&]?{NAME_PATTERN}\\Z")
 _POSITION_WIDTH = 9
 
 

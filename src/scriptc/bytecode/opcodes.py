@@ -17,6 +17,8 @@ from __future__ import annotations
 import struct
 from dataclasses import dataclass, field
 
+from scriptc.language import OPERATORS, SCOPES
+
 __all__ = [
     "OperandKind",
     "Operand",
@@ -59,9 +61,9 @@ KINDS: dict[str, OperandKind] = {
         OperandKind("text", "I", "index of a text constant holding data (a path, a payload)"),
         OperandKind("name", "I", "index of a text constant holding a name (alias `?kid`, "
                                  "variable `@v`, attribute `$a`, field, class, function)"),
-        OperandKind("scope", "B", "the ASCII code of a scope letter", letters="ULT"),
+        OperandKind("scope", "B", "the ASCII code of a scope letter", letters="".join(SCOPES)),
         OperandKind("cmp", "B", "the ASCII code of a comparison: `=`, `<` or `>`",
-                    letters="=<>"),
+                    letters="".join(op.removeprefix("OP") for op in OPERATORS)),
         OperandKind("block", "I", "index of a block in the block table"),
         OperandKind("jump", "I", "code offset of an instruction of the same block"),
     )

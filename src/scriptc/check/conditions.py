@@ -19,7 +19,7 @@ import bisect
 from scriptc.check.context import Context, closest, code_list, suggestion
 from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit
 from scriptc.diagnostics.codes import diagnostic
-from scriptc.ir.builtins import CLASSES, SCOPES
+from scriptc.ir.builtins import CLASSES
 from scriptc.ir.nodes import (
     AliasRef,
     AttAssignment,
@@ -35,8 +35,9 @@ from scriptc.ir.nodes import (
     Value,
     VarAssignment,
 )
+from scriptc.language import SCOPES
 
-# The scopes of builtins.SCOPES, said short enough for a help line.
+# The scopes of language.SCOPES, said short enough for a help line.
 _SCOPES = {
     "U": "while the script runs",
     "L": "until the binding rule passes the map on",

@@ -9,20 +9,8 @@ from scriptc.check.context import Context
 from scriptc.diagnostics.model import Diagnostic, Fix, TextEdit
 from scriptc.diagnostics.codes import diagnostic
 from scriptc.ir.nodes import RuleMessage
+from scriptc.language import MUTEXES, RULE_ACTIONS, quote
 from scriptc.source import Span
-
-ACTIONS = {
-    "A": "activate and add the rule",
-    "R": "remove the rule",
-    "D": "activate the rule and delay it for later use",
-    "B": "bring a delayed rule back",
-    "C": "recover a removed rule",
-}
-MUTEXES = {
-    "L": "lock map propagation, then issue",
-    "M": "issue",
-    "U": "issue, then unlock map propagation",
-}
 
 # What an omega message must do to undo an alfa action on the same rule id. `D` is exempt:
 # thesis 3.2 lets a script load (heavy) rules ahead of time for the scripts that follow it,
@@ -46,7 +34,7 @@ def check_messages(ctx: Context) -> list[Diagnostic]:
 
 
 def _letters(ctx: Context, msg: RuleMessage, out: list[Diagnostic]) -> None:
-    for name, table, what in ((msg.action, ACTIONS, "rule action"), (msg.mutex, MUTEXES, "mutex command")):
+    for name, table, what in ((msg.action, RULE_ACTIONS, "rule action"), (msg.mutex, MUTEXES, "mutex command")):
         if name.text in table:
             continue
         shown = f"`{name.text}`" if name.text else "nothing"
@@ -117,15 +105,11 @@ def _omega_order(ctx: Context, out: list[Diagnostic]) -> None:
         )
 
 
-def _escape(text: str) -> str:
-    return text.replace("\\", "\\\\").replace('"', '\\"')
-
-
 def message_text(kind: str, like: RuleMessage, action: str, mutex: str) -> str:
     """A rule message in script syntax on the same rule as `like`."""
     return (
-        f'[{kind}:{like.rulecode.text},{like.id.text},"{_escape(like.intopic.value)}",'
-        f'"{_escape(like.outtopic.value)}",{action},{mutex}]'
+        f'[{kind}:{like.rulecode.text},{like.id.text},{quote(like.intopic.value)},'
+        f'{quote(like.outtopic.value)},{action},{mutex}]'
     )
 
 
@@ -201,8 +185,8 @@ def _leaks(ctx: Context, out: list[Diagnostic]) -> None:
                 "M004",
                 f"the omega messages do not undo alfa `{msg.action.text}` on rule `{msg.id.text}`",
                 msg.id.span,
-                notes=(f"alfa `{msg.action.text}` ({ACTIONS[msg.action.text]}) is undone by "
-                       f"omega `{letter}` ({ACTIONS[letter]}); without it the change outlives "
+                notes=(f"alfa `{msg.action.text}` ({RULE_ACTIONS[msg.action.text]}) is undone by "
+                       f"omega `{letter}` ({RULE_ACTIONS[letter]}); without it the change outlives "
                        "the script",),
                 help=f"add `{line}` to the omega list",
                 fix=fix,

@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import math
 import os
+from collections.abc import Mapping
 from decimal import Decimal, InvalidOperation
 from itertools import starmap
 
@@ -60,6 +61,7 @@ from scriptc.ir.nodes import (
     VarAssignment,
     VarRef,
 )
+from scriptc.language import MUTEXES, OPERATORS, RULE_ACTIONS, SCOPES
 from scriptc.numbers import whole_number
 from scriptc.source import SourceFile, Span
 
@@ -141,9 +143,9 @@ class _Codegen:
         return value
 
     @staticmethod
-    def letter(name: Name, allowed: str, what: str) -> str:
+    def letter(name: Name, allowed: Mapping[str, str], what: str) -> str:
         text = name.text
-        if len(text) != 1 or text not in allowed:
+        if text not in allowed:
             raise CodegenError(f"{what} `{text}` is not one of {', '.join(allowed)}")
         return text
 
@@ -196,8 +198,8 @@ class _Codegen:
             id=self.text(m.id.text),
             intopic=self.text(m.intopic.value),
             outtopic=self.text(m.outtopic.value),
-            action=self.letter(m.action, "ARDBC", "the rule action"),
-            mutex=self.letter(m.mutex, "LMU", "the mutex command"),
+            action=self.letter(m.action, RULE_ACTIONS, "the rule action"),
+            mutex=self.letter(m.mutex, MUTEXES, "the mutex command"),
             span=Span(*m.span),
         )
 
@@ -359,14 +361,14 @@ class _Codegen:
         return _with("?", alias.name.text)
 
     def scope(self, scope: Name) -> int:
-        return ord(self.letter(scope, "ULT", "the scope"))
+        return ord(self.letter(scope, SCOPES, "the scope"))
 
     @staticmethod
     def comparison(op: Name) -> str:
-        text = op.text[2:] if op.text.startswith("OP") else op.text
-        if text not in ("=", "<", ">"):
+        written = op.text if op.text.startswith("OP") else "OP" + op.text
+        if written not in OPERATORS:
             raise CodegenError(f"unknown comparison `{op.text}`")
-        return text
+        return written.removeprefix("OP")
 
     def call(self, call: Call, opcode: str, in_test: bool) -> None:
         if len(call.args) > 255:

@@ -35,13 +35,9 @@ from scriptc.ir.nodes import (
     VarAssignment,
     VarRef,
 )
+from scriptc.language import quote
 
-__all__ = ["condition_text", "quote", "value_text", "call_text"]
-
-
-def quote(value: str) -> str:
-    """`value` as a string literal of the language: `\\` and `"` escaped, nothing else."""
-    return '"' + value.replace("\\", "\\\\").replace('"', '\\"') + '"'
+__all__ = ["condition_text", "value_text", "call_text"]
 
 
 def _sigil(sigil: str, name: Name) -> str:

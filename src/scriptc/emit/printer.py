@@ -25,6 +25,17 @@ import re
 from collections.abc import Iterable
 from dataclasses import dataclass
 
+from scriptc.language import (
+    ATT_ACCESS,
+    COMMENT_PATTERN,
+    FIELD_ACCESS,
+    NAME_PATTERN,
+    NUMBER_PATTERN,
+    OPERATOR_PATTERN,
+    STRING_PATTERN,
+    sigiled,
+)
+
 __all__ = [
     "LINE_WIDTH", "GOAL_INDENT", "ACTION_INDENT", "BLOCK_INDENT", "INSTRUCTION", "JUMP",
     "SENSOR", "LayoutError", "Tok", "tokens", "piece", "command_text", "lay_out",
@@ -44,25 +55,22 @@ SENSOR = "sensor_body"
 
 _BREAK = re.compile(r"\r\n|\r|\n")
 
-# The tokens of an item. The patterns are the grammar's own (grammar/*.lark) and
-# the scanner's (strings and comments); `#` is a token of its own, so `#Human` is `#` `Human`
-# (the formatter never puts a space after `#`, so the text is the same).
-_TOKEN = re.compile(
-    r"""
-     (?P<ws>\s+)
-    |(?P<str>"(?:\\[^\n\r]|[^"\\\n\r])*")
-    |(?P<comment>%[^%]*%)
-    |(?P<op>OP[=<>])
-    |(?P<access>>[&$])
-    |(?P<alias>\?[A-Za-z_][A-Za-z0-9_-]*)
-    |(?P<var>@[A-Za-z_][A-Za-z0-9_-]*)
-    |(?P<att>\$[A-Za-z_][A-Za-z0-9_-]*)
-    |(?P<num>[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?)
-    |(?P<name>[A-Za-z_][A-Za-z0-9_-]*)
-    |(?P<punct>[\[\](){},:#!])
-    """,
-    re.VERBOSE,
-)
+# The tokens of an item, from the language's patterns (`scriptc.language`, read from the
+# grammar); `#` is a token of its own, so `#Human` is `#` `Human` (the formatter never puts a
+# space after `#`, so the text is the same).
+_TOKEN = re.compile("|".join(f"(?P<{group}>{pattern})" for group, pattern in (
+    ("ws", r"\s+"),
+    ("str", STRING_PATTERN),
+    ("comment", COMMENT_PATTERN),
+    ("op", OPERATOR_PATTERN),
+    ("access", f"{re.escape(FIELD_ACCESS)}|{re.escape(ATT_ACCESS)}"),
+    ("alias", sigiled("ALIAS")),
+    ("var", sigiled("VAR_REF")),
+    ("att", sigiled("ATT_REF")),
+    ("num", NUMBER_PATTERN),
+    ("name", NAME_PATTERN),
+    ("punct", r"[\[\](){},:#!]"),
+)))
 _OPENERS = frozenset("([{")
 _CLOSERS = frozenset(")]}")
 

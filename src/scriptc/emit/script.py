@@ -23,7 +23,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from scriptc.emit.condition import condition_text, quote
+from scriptc.emit.condition import condition_text
 from scriptc.emit.printer import (
     ACTION_INDENT,
     BLOCK_INDENT,
@@ -50,6 +50,7 @@ from scriptc.ir.nodes import (
     SensorBlock,
     TerminusBlock,
 )
+from scriptc.language import quote
 
 __all__ = ["format_script", "format_block", "format_rule_message", "ConditionText"]
 

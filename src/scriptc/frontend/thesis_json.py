@@ -39,7 +39,7 @@ from scriptc.diagnostics.codes import diagnostic
 from scriptc.gcpause import gc_paused
 from scriptc.ir import nodes as ir
 from scriptc.ir.fields import read_number
-from scriptc.language import name_problem
+from scriptc.language import MUTEXES, RULE_ACTIONS, name_problem, to_name
 from scriptc.numbers import MAX_DIGITS, whole_number
 from scriptc.source import SourceFile, Span
 from scriptc.frontend.jsonpos import JsonError, JsonNode, Member, parse_json, string_offsets
@@ -51,8 +51,9 @@ _SCHEMA_DEPTH = 10
 _INDEXED = {"goal": re.compile(r"goal(0|[1-9][0-9]*)"), "act": re.compile(r"act(0|[1-9][0-9]*)"),
             "blk": re.compile(r"blk(0|[1-9][0-9]*)")}
 _PATH = re.compile(r"goal(0|[1-9][0-9]*)/act(0|[1-9][0-9]*)/blk(0|[1-9][0-9]*)")
-_ACTION_LETTERS = {65: "A", 82: "R", 68: "D", 66: "B", 67: "C"}
-_MUTEX_LETTERS = {76: "L", 77: "M", 85: "U"}
+# The letters as the thesis JSON writes them: their ASCII codes.
+_ACTION_LETTERS = {ord(letter): letter for letter in RULE_ACTIONS}
+_MUTEX_LETTERS = {ord(letter): letter for letter in MUTEXES}
 
 
 # The index of a key or path written with more digits than any number holds (no file has that
@@ -779,9 +780,7 @@ class _Reader:
             help_ = self._path_help(m)
         else:
             message = f"`{where}` is `{path}`, which is not a block path `goalG/actA/blkB`"
-            name = re.sub(r"[^A-Za-z0-9_-]", "_", path)
-            if not re.match(r"[A-Za-z_]", name):
-                name = "_" + name
+            name = to_name(path)
             help_ = ("write the path of the target block, such as `goal0/act0/blk4`, or `\"\"` "
                      "to go on with the next block")
         self.diagnostics.append(diagnostic("J003", message, span, help=help_, path=where))

@@ -21,8 +21,24 @@ import re
 
 from scriptc.ide.answers import CompletionItem
 from scriptc.ide.snapshot import Snapshot
-from scriptc.ir.builtins import CLASSES, OPERATORS, SCOPES, field_of
+from scriptc.ir.builtins import CLASSES, field_of
 from scriptc.ir.nodes import InstructionBlock, JumpBlock, SensorBlock, TerminusBlock
+from scriptc.language import (
+    COMMENT_PATTERN,
+    FIELD_ACCESS,
+    FUNCTION_KINDS,
+    MUTEXES,
+    NAME_CHAR,
+    NAME_PATTERN,
+    OPEN_COMMENT_PATTERN,
+    OPERATORS,
+    PARTIAL_NAME_PATTERN,
+    RULE_ACTIONS,
+    SCOPES,
+    STRING_PATTERN,
+    TRACKS,
+    sigiled,
+)
 from scriptc.source import Span
 
 __all__ = ["complete"]
@@ -30,34 +46,54 @@ __all__ = ["complete"]
 # The word being typed: the run of name characters that ends at the cursor. The lookbehind
 # makes the search start only where a run starts; without it the search retried the rest of a
 # run from each of its characters (quadratic: completion in a 1 MB word took minutes).
-_WORD_CHARS = re.compile(r"(?<![A-Za-z0-9_-])[A-Za-z0-9_-]*\Z")
-_STRING = re.compile(r'"(?:\\.|[^"\\\n\r])*"')
-_COMMENT = re.compile(r"%[^%]*%")
-_OPEN_COMMENT = re.compile(r"%[^%]*\Z")
+_WORD_CHARS = re.compile(rf"(?<!{NAME_CHAR}){PARTIAL_NAME_PATTERN}\Z")
+_STRING = re.compile(STRING_PATTERN)
+_COMMENT = re.compile(COMMENT_PATTERN)
+_OPEN_COMMENT = re.compile(rf"{OPEN_COMMENT_PATTERN}\Z")  # (the closed ones are blanked first)
 
 _KIND_WORD = {InstructionBlock: "blk_inst", JumpBlock: "blk_jump", TerminusBlock: "blk_terminus",
               SensorBlock: "blk_sens"}
-_ITEM_START = re.compile(r"\[\s*[\w-]*\Z")
-_BLOCK_LABEL = re.compile(r"\[\s*b\s*#[\w-]*\Z")
-_BLOCK_KIND = re.compile(r"\[\s*b\s*#[\w-]*#\s*[\w-]*\Z")
-_BLOCK_HEAD = re.compile(r"\[\s*b\s*#[\w-]*#\s*(blk_inst|blk_jump)\s*:")
-_TRACK_ARG = re.compile(r"\b(MV|LD|AO)\s*\((?:\s*\"\s*\"\s*,)*\s*\Z")
-_JUMP_TARGET = re.compile(r"\b(?:TRJMP|FLSJMP)\s*\(\s*[\w-]*\Z")
-_FIELD = re.compile(r"(\?[A-Za-z_][\w-]*)\s*>&\s*[\w-]*\Z")
-_OPERATOR = re.compile(r">&\s*[A-Za-z_][\w-]*\s+[\w-]*\Z")
-_FUNCTION = re.compile(r"\b([BFE])\s*:\s*[\w-]*\Z")
-_CLASS = re.compile(r"#[\w-]*\Z")
-_SCOPE = re.compile(r"\{\s*(?:CLASS\s+#[\w-]+|VAR\s+@[\w-]+|ATT\s+\?[\w-]+\s+\$[\w-]+)\s+[\w-]*\Z")
-_ALIAS = re.compile(r"\?[\w-]*\Z")
-_BRACE = re.compile(r"\{\s*[\w-]*\Z")
+# The places of the grammar, as regexes over the text before the cursor: `_W` is the word being
+# typed (perhaps empty), `_B` a start of word (no name character before it).
+_W = PARTIAL_NAME_PATTERN
+_B = f"(?<!{NAME_CHAR})"
+_TRACK = "|".join(TRACKS)
+_ITEM_START = re.compile(rf"\[\s*{_W}\Z")
+_BLOCK_LABEL = re.compile(rf"\[\s*b\s*#{_W}\Z")
+_BLOCK_KIND = re.compile(rf"\[\s*b\s*#{_W}#\s*{_W}\Z")
+_BLOCK_HEAD = re.compile(rf"\[\s*b\s*#{_W}#\s*(blk_inst|blk_jump)\s*:")
+_TRACK_ARG = re.compile(rf"{_B}({_TRACK})\s*\((?:\s*\"\s*\"\s*,)*\s*\Z")
+_JUMP_TARGET = re.compile(rf"{_B}(?:TRJMP|FLSJMP)\s*\(\s*{_W}\Z")
+_FIELD = re.compile(rf"({sigiled('ALIAS')})\s*{re.escape(FIELD_ACCESS)}\s*{_W}\Z")
+_OPERATOR = re.compile(rf"{re.escape(FIELD_ACCESS)}\s*{NAME_PATTERN}\s+{_W}\Z")
+_FUNCTION = re.compile(rf"{_B}([{''.join(FUNCTION_KINDS)}])\s*:\s*{_W}\Z")
+_CLASS = re.compile(rf"#{_W}\Z")
+_SCOPE = re.compile(rf"\{{\s*(?:CLASS\s+{sigiled('CLASS_REF')}|VAR\s+{sigiled('VAR_REF')}|"
+                    rf"ATT\s+{sigiled('ALIAS')}\s+{sigiled('ATT_REF')})\s+{_W}\Z")
+_ALIAS = re.compile(rf"\?{_W}\Z")
+_BRACE = re.compile(rf"\{{\s*{_W}\Z")
+# In a CLASS assignment of the text before the cursor: its class, and the alias it binds.
+_BINDING = rf"\{{\s*CLASS\s+#({NAME_PATTERN})\s+{NAME_PATTERN}\s+"
 _MESSAGE_FIELD = re.compile(r"\[\s*(alfa|omega)\s*:([^\]]*)\Z")
+
+
+
+def _letters(table, first: str = "", *, every: bool = False) -> str:
+    """The letters of `table` for a snippet's choice: `first` (those the mutex order allows,
+    M001 and M002, or those that undo, M004), then with `every` the others in order."""
+    assert set(first) <= set(table)
+    rest = [k for k in table if k not in first] if every or not first else []
+    return ",".join([*first, *rest])
+
 
 _ITEMS = (
     ("goal:", "goal:${1:id}", "a goal: `[goal:ID]`, then its actions"),
     ("action", "action", "an action: `[action]`, then its blocks"),
-    ("alfa:", 'alfa:${1:0}, ${2:rule_id}, "${3}", "${4}", ${5|A,R,D,B,C|}, ${6|M,U|}',
+    ("alfa:", 'alfa:${1:0}, ${2:rule_id}, "${3}", "${4}", '
+     f'${{5|{_letters(RULE_ACTIONS)}|}}, ${{6|{_letters(MUTEXES, "MU")}|}}',
      "a rule message issued when the script starts"),
-    ("omega:", 'omega:${1:0}, ${2:rule_id}, "${3}", "${4}", ${5|R,C,A,D,B|}, ${6|L,M|}',
+    ("omega:", 'omega:${1:0}, ${2:rule_id}, "${3}", "${4}", '
+     f'${{5|{_letters(RULE_ACTIONS, "RC", every=True)}|}}, ${{6|{_letters(MUTEXES, "LM")}|}}',
      "a rule message issued when the script ends"),
 )
 _BLOCKS = (
@@ -77,9 +113,12 @@ _COMMANDS = {
            "a sound: the track's path (`Silence` plays nothing), then times in ms"),
 }
 _KEYWORDS = (
-    ("CLASS", "CLASS #${1:Human} ${2|U,L,T|} ?${3:alias} (${4})", "bind an alias to an entity of a class"),
-    ("VAR", "VAR @${1:name} ${2|U,L,T|} F: ${3:now}()", "set a variable to an `F:` function's value"),
-    ("ATT", "ATT ?${1:alias} \\$${2:name} ${3|U,L,T|} F: ${4:str}(${5})", "bind an attribute to an alias"),
+    ("CLASS", f"CLASS #${{1:Human}} ${{2|{_letters(SCOPES)}|}} ?${{3:alias}} (${{4}})",
+     "bind an alias to an entity of a class"),
+    ("VAR", f"VAR @${{1:name}} ${{2|{_letters(SCOPES)}|}} F: ${{3:now}}()",
+     "set a variable to an `F:` function's value"),
+    ("ATT", f"ATT ?${{1:alias}} \\$${{2:name}} ${{3|{_letters(SCOPES)}|}} F: ${{4:str}}(${{5}})",
+     "bind an attribute to an alias"),
     ("E:", "E: ${1:gt}(${2})", "evaluate an `E:` function (after the `!`)"),
     ("TRUE", "TRUE", "true: the whole condition `{TRUE}`, or an evaluation after the `!`"),
 )
@@ -153,11 +192,11 @@ class _Completer:
                                   insert_text=plain, documentation=doc)]
             if balanced and after_part:
                 # The tracks not written yet, in their order (`MV() LD() AO()`).
-                present = re.findall(r"\b(MV|LD|AO)\s*\(", before)
-                last = max(("MV", "LD", "AO").index(t) for t in present) if present else -1
+                present = re.findall(rf"{_B}({_TRACK})\s*\(", before)
+                last = max(TRACKS.index(t) for t in present) if present else -1
                 return [self.item(name, "keyword", snippet=f"{name}(${{1}})", insert_text=f"{name}()",
                                   documentation=_COMMANDS[name][1])
-                        for name in ("MV", "LD", "AO")[last + 1:]]
+                        for name in TRACKS[last + 1:]]
         if head.group(1) == "blk_jump" and balanced and after_part:
             if "CND" not in before:
                 return [self.item("CND", "keyword", snippet="CND(${1:! {TRUE\\}})", insert_text="CND()",
@@ -200,8 +239,6 @@ class _Completer:
     # -- rule messages ------------------------------------------------------------------------
 
     def message(self, p: str) -> list[CompletionItem]:
-        from scriptc.check.messages import ACTIONS, MUTEXES
-
         m = _MESSAGE_FIELD.match(p)
         kind, fields = m.group(1), m.group(2)
         field_index = fields.count(",")
@@ -215,9 +252,9 @@ class _Completer:
             return [self.item(i, "rule", detail="rule id") for i in ids]
         if field_index == 4:
             return [self.item(k, "letter", detail="rule action", documentation=v)
-                    for k, v in ACTIONS.items()]
+                    for k, v in RULE_ACTIONS.items()]
         if field_index == 5:
-            order = "MUL" if kind == "alfa" else "LMU"
+            order = _letters(MUTEXES, "MU" if kind == "alfa" else "LM", every=True).split(",")
             return [self.item(k, "letter", detail="mutex", documentation=MUTEXES[k],
                               sort_text=str(order.index(k))) for k in order]
         return []
@@ -229,10 +266,8 @@ class _Completer:
         if m:
             return self.fields(m.group(1), p)
         if _OPERATOR.search(p):
-            from scriptc.ide.hover import OPERATOR_WORDS
-
-            return [self.item(op, "operator", documentation=f"the field is {OPERATOR_WORDS[op]} the value")
-                    for op in OPERATORS]
+            return [self.item(op, "operator", documentation=f"the field is {word} the value")
+                    for op, word in OPERATORS.items()]
         m = _FUNCTION.search(p)
         if m:
             return self.functions(m.group(1))
@@ -245,7 +280,7 @@ class _Completer:
         if _ALIAS.search(p):
             start = self.span.start - 1  # the `?` is part of the alias
             names = sorted(self.snapshot.index.alias_bindings)
-            names += [a for a in re.findall(r"\{\s*CLASS\s+#[\w-]+\s+\w+\s+(\?[\w-]+)", p)
+            names += [a for _, a in re.findall(_BINDING + f"({sigiled('ALIAS')})", p)
                       if a not in names]
             out = [self.item(a, "variable", span=Span(start, self.span.end), detail="alias")
                    for a in names if a != "?" + self.word]
@@ -259,10 +294,10 @@ class _Completer:
 
     def fields(self, alias: str, p: str) -> list[CompletionItem]:
         if alias == "?THIS":
-            classes = re.findall(r"\{\s*CLASS\s+#([\w-]+)", p)
+            classes = re.findall(rf"\{{\s*CLASS\s+#({NAME_PATTERN})", p)
             cls = classes[-1] if classes else None
         else:
-            here = re.findall(r"\{\s*CLASS\s+#([\w-]+)\s+\w+\s+" + re.escape(alias) + r"(?![\w-])", p)
+            here = re.findall(_BINDING + re.escape(alias) + f"(?!{NAME_CHAR})", p)
             cls = here[-1] if here else self.snapshot.index.alias_class(alias)
         names = list(CLASSES) if cls not in CLASSES else [cls]
         seen: dict[str, CompletionItem] = {}

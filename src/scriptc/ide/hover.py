@@ -18,7 +18,7 @@ import re
 from scriptc.ide.index import BlockInfo, Occurrence, track_time
 from scriptc.ide.answers import Hover
 from scriptc.ide.snapshot import Snapshot
-from scriptc.ir.builtins import CLASSES, OPERATORS, SCOPES, field_of
+from scriptc.ir.builtins import CLASSES, field_of
 from scriptc.ir.nodes import (
     AudioCommand,
     InstructionBlock,
@@ -28,6 +28,7 @@ from scriptc.ir.nodes import (
     SensorBlock,
     TerminusBlock,
 )
+from scriptc.language import MUTEXES, OPERATORS, RULE_ACTIONS, SCOPES
 from scriptc.source import Span
 
 __all__ = ["hover", "code_at", "format_ms"]
@@ -36,7 +37,6 @@ _WORD = re.compile(r"[A-Za-z0-9_]+")
 _CODE = re.compile(r"[A-Z][0-9]{3}")
 # The most commands of one track a hover lists before summing up the rest.
 _MAX_COMMANDS = 4
-OPERATOR_WORDS = dict(zip(OPERATORS, ("equal to", "less than", "greater than")))
 
 
 def hover(snapshot: Snapshot, offset: int) -> Hover | None:
@@ -146,14 +146,12 @@ def _occurrence_markdown(snapshot: Snapshot, o: Occurrence) -> str | None:
         cls = f" (a `{o.detail}`)" if o.detail else ""
         return f"`?THIS`: the candidate entity{cls} that a CLASS assignment's tests examine"
     if kind == "operator":
-        word = OPERATOR_WORDS.get(name)
+        word = OPERATORS.get(name)
         return f"`{name}`: the field is {word} the value" if word else None
     if kind == "rule":
         return _rule_markdown(snapshot, name)
     if kind in ("action-letter", "mutex-letter"):
-        from scriptc.check.messages import ACTIONS, MUTEXES
-
-        table, what = (ACTIONS, "rule action") if kind == "action-letter" else (MUTEXES, "mutex")
+        table, what = (RULE_ACTIONS, "rule action") if kind == "action-letter" else (MUTEXES, "mutex")
         meaning = table.get(name)
         return f"**{what}** `{name}`: {meaning}" if meaning else None
     if kind == "goal":
@@ -215,13 +213,11 @@ def _alias_markdown(snapshot: Snapshot, name: str) -> str:
 
 
 def _rule_markdown(snapshot: Snapshot, rule_id: str) -> str:
-    from scriptc.check.messages import ACTIONS, MUTEXES
-
     messages = [m for m in (*snapshot.script.alfa, *snapshot.script.omega) if m.id.text == rule_id]
     lines = [f"**rule** `{rule_id}`"]
     for m in messages:
         lines.append(f"- line {_line(snapshot, m.span.start)}, {m.kind} (rulecode {m.rulecode.text}): "
-                     f"`{m.action.text}` {ACTIONS.get(m.action.text, '(unknown action)')}; "
+                     f"`{m.action.text}` {RULE_ACTIONS.get(m.action.text, '(unknown action)')}; "
                      f"`{m.mutex.text}` {MUTEXES.get(m.mutex.text, '(unknown mutex)')}")
     return "\n".join(lines[:1]) + "\n\n" + "\n".join(lines[1:])
 

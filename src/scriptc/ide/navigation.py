@@ -15,19 +15,17 @@ already taken (two labels, aliases or rules would become one).
 
 from __future__ import annotations
 
-import re
-
 from scriptc.diagnostics.model import TextEdit
 from scriptc.ide.index import Occurrence
 from scriptc.ide.answers import RenameError
 from scriptc.ide.snapshot import Snapshot
 from scriptc.ir.nodes import ClassAssignment, JumpBlock
+from scriptc.language import SIGILS, THIS, is_name
 from scriptc.source import Span
 
 __all__ = ["definition", "references", "prepare_rename", "rename"]
 
 RENAMABLE = ("label", "alias", "rule")
-_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_-]*")
 _WHAT = {"label": "label", "alias": "alias", "rule": "rule id"}
 
 
@@ -88,10 +86,11 @@ def rename(snapshot: Snapshot, offset: int, new_name: str) -> list[TextEdit]:
     what = _WHAT[o.kind]
     new = new_name.strip()
     if o.kind == "alias":
-        new = new if new.startswith("?") else "?" + new
-        valid = _NAME.fullmatch(new[1:]) is not None and new != "?THIS"
+        sigil = SIGILS["ALIAS"]
+        new = new if new.startswith(sigil) else sigil + new
+        valid = is_name(new[len(sigil):]) and new != THIS
     else:
-        valid = _NAME.fullmatch(new) is not None
+        valid = is_name(new)
     if not valid:
         raise RenameError(f"`{new_name}` is not a valid {what}"
                           + (" (a letter or `_`, then letters, digits, `_` or `-`)"))

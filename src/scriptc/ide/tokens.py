@@ -19,6 +19,22 @@ from functools import lru_cache
 from scriptc.ide.answers import SemanticToken
 from scriptc.ide.snapshot import Snapshot
 from scriptc.ir.builtins import STANDARD
+from scriptc.language import (
+    ASSIGNMENTS,
+    FUNCTION_KINDS,
+    ITEM_KEYWORDS,
+    JUMP_WORDS,
+    NAME_PATTERN,
+    NUMBER_PATTERN,
+    OPEN_COMMENT_PATTERN,
+    OPEN_STRING_PATTERN,
+    OPERATOR_PATTERN,
+    THIS,
+    TRACKS,
+    TRUE,
+    not_in_name,
+    sigiled,
+)
 from scriptc.source import Span
 
 __all__ = ["TYPES", "MODIFIERS", "semantic_tokens"]
@@ -27,32 +43,32 @@ TYPES = ("namespace", "label", "keyword", "string", "number", "comment", "class"
          "variable", "function", "operator", "modifier", "enumMember", "event")
 MODIFIERS = ("declaration", "readonly", "defaultLibrary")
 
-_TOKEN = re.compile(
-    r"""(?P<comment>%[^%]*%?)
-    |(?P<string>"(?:\\.|[^"\\\n\r])*"?)
-    |(?P<op>OP[=<>])
-    |(?P<cls>\#[A-Za-z_][\w-]*)
-    |(?P<this>\?THIS(?![\w-]))
-    |(?P<alias>\?[A-Za-z_][\w-]*)
-    |(?P<var>@[A-Za-z_][\w-]*)
-    |(?P<att>\$[A-Za-z_][\w-]*)
-    |(?P<number>[+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?)
-    |(?P<name>[A-Za-z_][\w-]*)
-    |(?P<punct>>&|>|[\[\]():,{}!#])
-    |(?P<space>\s+)
-    |(?P<other>.)""",
-    re.X | re.S,
-)
-_ITEM_KEYWORDS = {"goal", "action", "alfa", "omega"}
-_BLOCK_KINDS = {"blk_inst", "blk_jump", "blk_terminus", "blk_sens", "blk_sensor"}
-_BODY_KEYWORDS = {"MV", "LD", "AO", "CND", "TRJMP", "FLSJMP"}
-_CONDITION_KEYWORDS = {"CLASS", "VAR", "ATT", "TRUE"}
+# The tokens of an item as an editor sees it, perhaps while it is typed (a string or a comment
+# not closed yet), from the language's patterns (`scriptc.language`).
+_TOKEN = re.compile("|".join(f"(?P<{group}>{pattern})" for group, pattern in (
+    ("comment", OPEN_COMMENT_PATTERN),
+    ("string", OPEN_STRING_PATTERN),
+    ("op", OPERATOR_PATTERN),
+    ("cls", sigiled("CLASS_REF")),
+    ("this", not_in_name(re.escape(THIS))),
+    ("alias", sigiled("ALIAS")),
+    ("var", sigiled("VAR_REF")),
+    ("att", sigiled("ATT_REF")),
+    ("number", NUMBER_PATTERN),
+    ("name", NAME_PATTERN),
+    ("punct", r">&|>|[\[\]():,{}!#]"),
+    ("space", r"\s+"),
+    ("other", "."),
+)), re.S)
+_ITEM_KEYWORDS = frozenset(ITEM_KEYWORDS)
+_BODY_KEYWORDS = frozenset((*TRACKS, *JUMP_WORDS))
+_CONDITION_KEYWORDS = frozenset((*ASSIGNMENTS, TRUE))
 
 # (relative start, length, type, modifiers)
 _Raw = tuple[int, int, str, tuple[str, ...]]
 
 
-_BLOCK_HEAD = re.compile(r"\[(\s*)(b)(\s*)#(\s*)([A-Za-z_][\w-]*)?(\s*)#(\s*)([A-Za-z_][\w-]*)?")
+_BLOCK_HEAD = re.compile(rf"\[(\s*)(b)(\s*)#(\s*)({NAME_PATTERN})?(\s*)#(\s*)({NAME_PATTERN})?")
 
 
 @lru_cache(maxsize=65536)
@@ -160,7 +176,7 @@ def _condition_token(t, lexed, i, previous, depth, add):
     elif group == "number":
         add(t, "number")
     elif group == "name":
-        if value in _CONDITION_KEYWORDS or (value in ("B", "F", "E") and following is not None
+        if value in _CONDITION_KEYWORDS or (value in FUNCTION_KINDS and following is not None
                                             and following[3] == ":"):
             add(t, "keyword")
         elif following is not None and following[3] == "(":

@@ -43,15 +43,6 @@ CLASSES: Mapping[str, tuple[Field, ...]] = {
     ),
 }
 
-SCOPES: Mapping[str, str] = {
-    "U": "until the script ends (or a rule removes it)",
-    "L": "until the rule that bound it passes the map on",
-    "T": "until the map returns to the map producer (one loop)",
-}
-
-OPERATORS = ("OP=", "OP<", "OP>")
-
-
 def field_of(class_name: str, field: str) -> Field | None:
     for f in CLASSES.get(class_name, ()):
         if f.name == field:

@@ -11,13 +11,13 @@ import re
 from scriptc.diagnostics.model import Diagnostic
 from scriptc.diagnostics.codes import diagnostic
 from scriptc.ir.nodes import Number
+from scriptc.language import NUMBER_PATTERN
 from scriptc.source import Span
 
-# docs/language.md: decimal, optional sign and fraction. An exponent is accepted too (C++'s stof,
-# which read these fields on the robot, accepts it); ranges are checked by the checker.
-# ASCII digits only: `\d` would also accept digits of other scripts, which the robot cannot read.
-NUMBER = r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?"
-NUMBER_RE = re.compile(NUMBER)
+# The language's number (docs/language.md): decimal, optional sign, fraction and exponent (C++'s
+# stof, which read these fields on the robot, accepts it), ASCII digits only; ranges are checked
+# by the checker.
+NUMBER_RE = re.compile(NUMBER_PATTERN)
 
 
 def fields_pattern(count: int, text_first: bool = False) -> re.Pattern:
@@ -26,7 +26,7 @@ def fields_pattern(count: int, text_first: bool = False) -> re.Pattern:
     is field i, trimmed as `str.strip` trims (`\\s` is `str.isspace`). The text ends at a
     non-blank (`\\S(?:.*?\\S)?`, not `\\S.*?` before the blanks: that form retried the blanks
     at each of their characters, quadratic in a path holding a megabyte of spaces)."""
-    field = rf"\s*({NUMBER})\s*"
+    field = rf"\s*({NUMBER_PATTERN})\s*"
     parts = [r"\s*(\S(?:.*?\S)?)\s*"] + [field] * (count - 1) if text_first else [field] * count
     return re.compile(",".join(parts), re.DOTALL)
 

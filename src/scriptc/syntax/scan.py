@@ -14,11 +14,12 @@ from dataclasses import dataclass, field
 
 from scriptc.diagnostics.model import Diagnostic, Label
 from scriptc.diagnostics.codes import diagnostic
+from scriptc.language import STRING_PATTERN
 from scriptc.source import Span
 
 # Inside an item, the characters that change what follows.
 _ITEM_SPECIAL = re.compile(r'[\[\]"%]')
-_STRING = re.compile(r'"(?:\\[^\n\r]|[^"\\\n\r])*"')
+_STRING = re.compile(STRING_PATTERN)
 _STRAY = re.compile(r"[^\[%\s][^\[%]*")
 _SPACE = re.compile(r"\s*")
 
