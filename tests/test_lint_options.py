@@ -13,7 +13,7 @@ import pytest
 from hypothesis import given, settings as hsettings, strategies as st
 
 from scriptc.project.config import RuleSelection, Settings
-from scriptc.diagnostics.codes import all_codes
+from scriptc.diagnostics.codes import lint_codes
 # The scripts and helpers of the repository-wide lint tests: CLEAN, WARNS (F001, a warning),
 # FIXABLE (R007 with a safe fix, R003 with an unsafe one).
 from test_lint_repo import CLEAN, FIXABLE, WARNS, run, write
@@ -109,7 +109,7 @@ def test_the_command_lines_layer_laws(config_select, config_ignore, select, exte
     over = _policy(base.with_selection(RuleSelection(None, tuple(extend), tuple(ignore))))
     below = _policy(base)
     names = set(extend) | set(ignore)
-    for entry in all_codes():
+    for entry in lint_codes():
         if entry.severity.value == "error":
             assert over[entry.code]
         elif not any(s == "ALL" or entry.code.startswith(s) or s == entry.name for s in names):

@@ -59,9 +59,9 @@ class Suppression:
 def _suggest(word: str) -> str | None:
     import difflib
 
-    from scriptc.diagnostics.codes import all_codes
+    from scriptc.diagnostics.codes import lint_codes
 
-    names = [c.code for c in all_codes()] + [c.name for c in all_codes()]
+    names = [c.code for c in lint_codes()] + [c.name for c in lint_codes()]
     close = difflib.get_close_matches(word, names, n=1, cutoff=0.6) or \
         difflib.get_close_matches(word.upper(), names, n=1, cutoff=0.6)
     return close[0] if close else None
@@ -120,6 +120,13 @@ def find_suppressions(source: SourceFile) -> tuple[list[Suppression], list[Diagn
                     "C004", f"`{word}` is not a diagnostic code", span,
                     help=f"did you mean `{close}`?" if close else
                     "`scriptc explain --all` lists the codes and their names"))
+                continue
+            if entry.at_run_time:
+                other = entry.name if word.upper() == entry.code else entry.code
+                problems.append(diagnostic(
+                    "C004", f"`{word}` ({other}) is a run-time code, which lint never reports",
+                    span, notes=("run-time codes are in the trace of `scriptc run`",),
+                    help="remove it; suppress the lint codes this item gets"))
                 continue
             if entry.severity is Severity.ERROR:
                 other = entry.name if word.upper() == entry.code else entry.code

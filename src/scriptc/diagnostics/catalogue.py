@@ -21,6 +21,7 @@ _FAMILIES = {
     "J": "Thesis JSON input",
     "C": "Configuration and suppressions",
     "K": "Safety against the robot profile",
+    "X": "Run time (the `error` events of a run's trace)",
 }
 
 

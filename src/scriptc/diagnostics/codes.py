@@ -15,6 +15,9 @@ links keep working. Families:
 - J  thesis JSON input (`scriptc check`, `scriptc decompile`)
 - C  configuration (`scriptc.toml`, `[tool.scriptc]`) and suppression comments
 - K  safety against the robot profile (speeds, flashing LEDs)
+- X  run time: the `error` events of a run's trace (`scriptc run`, docs/runtime.md), which
+     carry the code's name (`"code": "mutex-misuse"`); an error stops the run, a warning does
+     not. `at_run_time` codes are never reported by lint (`lint_codes()` leaves them out).
 """
 
 from __future__ import annotations
@@ -37,6 +40,7 @@ class Code:
     severity: Severity
     summary: str
     retired: bool = False
+    at_run_time: bool = False
 
     @property
     def explanation(self) -> str:
@@ -107,13 +111,24 @@ _CODES = (
     Code("C001", "unknown-config-key", E, "a key the configuration does not have"),
     Code("C002", "invalid-config-value", E, "a configuration value of the wrong type or out of range"),
     Code("C003", "unused-suppression", W, "a suppression comment that suppresses nothing"),
-    Code("C004", "invalid-code", W, "a code that does not exist, or an error code, in a suppression or the configuration"),
+    Code("C004", "invalid-code", W, "a code that does not exist, an error code or a run-time code, in a suppression or the configuration"),
     Code("C005", "invalid-config-file", E, "a configuration file that is not valid TOML"),
     Code("C006", "invalid-suppression", W, "a `scriptc:` comment that is not a suppression scriptc understands"),
     # K: safety against the robot profile (check/safety.py, docs/robot.md)
     Code("K001", "speed-beyond-profile", W, "a move faster than the robot profile allows (the governor slows it down)"),
     Code("K002", "led-flashing", E, "LEDs flashing faster than the profile allows (3 Hz: a seizure risk, WCAG 2.3.1)"),
     Code("K003", "ramps-change-pose", W, "moves whose acceleration ramps leave the robot away from where the script puts it"),
+    # X: run time (the trace's `error` events carry the name; runtime/status.py)
+    Code("X001", "mutex-misuse", W, "rule messages misuse the map's mutex at run time (a script that was not checked)", at_run_time=True),
+    Code("X002", "unknown-rulecode", W, "a rule message names a rulecode the rule library does not have: the rule does nothing", at_run_time=True),
+    Code("X003", "rule", W, "a rule cannot be made from its message, or its body raised: the chain goes on", at_run_time=True),
+    Code("X004", "function", W, "a function failed or is unknown at run time: it counts as false (no value for an F function)", at_run_time=True),
+    Code("X005", "override", W, "a compulsory switch names a script, goal or block that does not exist: nothing switches", at_run_time=True),
+    Code("X006", "script_vect", W, "a `Script/script_vect` update names a script that cannot be found or loaded: it is left out", at_run_time=True),
+    Code("X007", "update", W, "a rule posted a map update the map cannot take: it is dropped", at_run_time=True),
+    Code("X008", "no-progress", E, "the session looped at one instant without letting time pass: the run stops", at_run_time=True),
+    Code("X009", "read", E, "reading the script's blocks failed (a jump to no block, a read that never ends, a VM trap): the run stops", at_run_time=True),
+    Code("X010", "robot-unstable", E, "the robot's physics failed (the simulation diverged): the run stops", at_run_time=True),
 )
 
 REGISTRY: dict[str, Code] = {c.code: c for c in _CODES}
@@ -157,6 +172,23 @@ def diagnostic(
 
 def all_codes() -> tuple[Code, ...]:
     return _CODES
+
+
+def lint_codes() -> tuple[Code, ...]:
+    """The codes lint may report: every code but the run-time ones (family X)."""
+    return _LINT_CODES
+
+
+_LINT_CODES = tuple(c for c in _CODES if not c.at_run_time)
+
+
+def run_time_name(name: str) -> str:
+    """`name` itself, once checked to be a run-time code's name: what the runtime writes as
+    an `error` event's `code` (runtime/status.py), so none escapes the registry."""
+    entry = BY_NAME.get(name)
+    if entry is None or not entry.at_run_time:
+        raise KeyError(f"`{name}` is not the name of a run-time code of the registry")
+    return name
 
 
 def suggest_codes(query: str, limit: int = 3) -> list[str]:

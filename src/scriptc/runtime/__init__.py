@@ -8,12 +8,22 @@ Shared by every executor (what a bytecode VM reuses as it is):
 - `bindings`    aliases (one per entity), VARs, ATTs and their scopes U/T/L
 - `functions`   B/F/E implementations and the registration API for an activity's own
 - `evaluate`    condition evaluation: `EvalContext` primitives, and the IR evaluator
-- `rules`       the chain (A R D B C, L M U), the rule library by rulecode
+- `rules`       the chain's actions (A R D B C), the rule library by rulecode, `RuleContext`
+                (what a body may do, through a `RuleHost`)
 - `actuators`   track timing, outputs, the operator's joystick
 - `robots/`     robot backends (`kinematic`; MuJoCo next)
 - `scenario`    world files: timed MapUpdates and operator events
 - `trace`       JSON-lines traces
-- `session`     the LIFO, `idle_activity` (`idle`), the loop of thesis 4.2
+- `session`     the wiring of the jobs below into one run (`Session`)
+- `loop`        the event loop: the instants and the order of each (thesis 4.2); `RunResult`
+- `scripts`     the LIFO, `idle_activity` (`idle`), loading, unloading and block reading
+- `sink`        what an executor reports while reading (the `ReadSink`)
+- `goals`       goal records and `goalreached`
+- `mutex`       the chain of rules: alfa/omega hand-over, the lock, the chain pass
+- `overrides`   compulsory script switches and `Script/script_vect`
+- `updates`     map updates posted and applied
+- `operator`    the operator's joystick (thesis 5.3)
+- `status`      the instant under way, the end, the problems (the registry's run-time codes)
 - `loading`     `Loader`, the protocol by which a session loads a script met by path
 
 Executor-specific (one per way of reading a script's blocks; `executor.py` is the contract):
@@ -28,7 +38,7 @@ from __future__ import annotations
 
 _EXPORTS = {
     "Session": "scriptc.runtime.session",
-    "Result": "scriptc.runtime.session",
+    "RunResult": "scriptc.runtime.loop",
     "LoadError": "scriptc.runtime.loading",
     "Loader": "scriptc.runtime.loading",
     "IRProgram": "scriptc.runtime.interp",

@@ -57,15 +57,15 @@ class EvalContext:
     bindings belong to it. `on_error(message)` is called when a function fails at run time.
     """
 
-    __slots__ = ("world", "bindings", "functions", "session", "now", "owner", "made",
+    __slots__ = ("world", "bindings", "functions", "goals", "now", "owner", "made",
                  "on_error")
 
     def __init__(self, world: World, bindings: Bindings, functions: Implementations,
-                 session=None, on_error=None) -> None:
+                 goals=None, on_error=None) -> None:
         self.world = world
         self.bindings = bindings
         self.functions = functions
-        self.session = session
+        self.goals = goals  # the session's goal records, for goalreached (may be None)
         self.now = 0
         self.owner = ""
         self.made: dict[str, str] = {}
@@ -162,7 +162,7 @@ class EvalContext:
         try:
             return self.functions.call(name, kind, args,
                                        CallContext(self.world, self.now, this, self.bindings,
-                                                   self.session))
+                                                   self.goals))
         except FunctionError as exc:
             if self.on_error is not None:
                 self.on_error(str(exc))

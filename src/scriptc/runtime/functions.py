@@ -33,21 +33,21 @@ from scriptc.runtime.world import Entity, World
 class CallContext:
     """What a function sees besides its arguments."""
 
-    __slots__ = ("world", "now", "this", "bindings", "session")
+    __slots__ = ("world", "now", "this", "bindings", "goals")
 
-    def __init__(self, world: World, now: int, this: Entity | None, bindings, session) -> None:
+    def __init__(self, world: World, now: int, this: Entity | None, bindings, goals) -> None:
         self.world = world
         self.now = now
         self.this = this  # the candidate entity of a CLASS assignment (B functions)
         self.bindings = bindings
-        self.session = session  # the running session, for goal_reached (may be None)
+        self.goals = goals  # the session's goal records (runtime/goals.py; may be None)
 
     def goal_reached(self, goalid: str) -> bool:
         """True when the map records `goalid` as reached by the running script since it was
         loaded (docs/runtime.md "Goals")."""
-        if self.session is None:
+        if self.goals is None:
             return any(r.get("goalid") == goalid for r in self.world.goal_records("goalreached"))
-        return self.session.goal_reached(goalid)
+        return self.goals.reached(goalid)
 
 
 @dataclass(frozen=True, slots=True)

@@ -7,7 +7,9 @@ A rule is a condition in the rule grammar plus a body (Python), identified by `r
 rule's condition in chain order (with the rule as the owner of its `L` bindings, which end
 when its turn ends) and calls the body's `on_true(ctx)` or `on_false(ctx)`; the body acts on
 the map through `RuleContext` (change the block about to be issued, hold motion, raise an
-override, drop aliases, set VARs and ATTs, record goals, post map updates, write a note).
+override, drop aliases, set VARs and ATTs, record goals, post map updates, write a note), which
+reaches the session only through a `RuleHost`: the map, its bindings and four effects
+(`mutex.RuleEffects` in a session; a test may hand its own).
 
 Messages (`RuleChain.apply`): `A` creates the rule and adds it at the end of the chain; `R`
 takes it out but keeps it (state and all) for `C`, which puts it back at the end; `D`
@@ -40,10 +42,13 @@ from __future__ import annotations
 import re
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any, Protocol
 
 from scriptc.ir import nodes as ir
 from scriptc.numbers import whole_number
+from scriptc.runtime.bindings import Bindings
 from scriptc.runtime.commands import Instruction, RuleMessage
+from scriptc.runtime.world import OverrideRequest, World
 
 
 class RuleError(ValueError):
@@ -105,65 +110,86 @@ class Rule:
         return f"<{type(self).__name__} {self.id} ({self.rulecode})>"
 
 
+class RuleHost(Protocol):
+    """What a rule's turn reaches besides its own rule (the session's `mutex.RuleEffects`;
+    a test may hand its own): the map and its bindings, and four effects."""
+
+    world: World
+    bindings: Bindings
+
+    def hold_motion(self) -> None:
+        """Keep the wheels still for this pass of the chain."""
+
+    def record_goal(self, kind: str, goalid: str, by: str) -> None:
+        """A goal record (`reached`, `interrupted`, `failed`); ValueError for another kind."""
+
+    def post_update(self, objectid: str, attributename: str, policy: str, jsonmsg: Any,
+                    by: str) -> None:
+        """A MapUpdate, applied at the next step 4 (one the map cannot take is reported)."""
+
+    def note(self, now: int, rule: Rule, message: str, data: dict[str, Any]) -> None:
+        """A `rule_note` line in the trace."""
+
+
 class RuleContext:
-    """What a rule body may do to the map during its turn (see the module's docstring)."""
+    """What a rule body may do to the map during its turn (see the module's docstring), all
+    through its `RuleHost`."""
 
-    __slots__ = ("session", "rule", "now", "evaluation")
+    __slots__ = ("host", "rule", "now", "evaluation")
 
-    def __init__(self, session, rule: Rule, now: int, evaluation) -> None:
-        self.session = session
+    def __init__(self, host: RuleHost, rule: Rule, now: int, evaluation) -> None:
+        self.host = host
         self.rule = rule
         self.now = now
         self.evaluation = evaluation  # the condition's Evaluation (value, bindings)
 
     @property
-    def world(self):
-        return self.session.world
+    def world(self) -> World:
+        return self.host.world
 
     @property
-    def bindings(self):
-        return self.session.bindings
+    def bindings(self) -> Bindings:
+        return self.host.bindings
 
     @property
     def block(self) -> Instruction | None:
         """The instruction block in the map's script info (running or about to be issued)."""
-        return self.session.world.script.block
+        return self.host.world.script.block
 
     def replace_block(self, instruction: Instruction) -> None:
         """Change the block: it is marked `changed` and the actuators restart it."""
-        info = self.session.world.script
+        info = self.host.world.script
         info.block = instruction
         info.changed = True
         self.note("block changed")
 
     def hold_motion(self) -> None:
         """Keep the wheels still until the next pass (assert it on every pass to keep it)."""
-        self.session.motion_hold_asserted = True
+        self.host.hold_motion()
 
     def override(self, script: str, goal: int | str = 0, action: int = 0, block: int = 0) -> None:
         """Raise a compulsory script switch (applied at step 5 of the next loop)."""
-        from scriptc.runtime.world import OverrideRequest
-
-        self.session.world.script.override = OverrideRequest(script, goal, action, block,
-                                                             self.rule.id)
+        self.host.world.script.override = OverrideRequest(script, goal, action, block,
+                                                          self.rule.id)
 
     def drop_alias(self, alias: str) -> None:
-        self.session.bindings.unbind(alias)
+        """End the alias's binding (and its ATTs), whatever its scope."""
+        self.host.bindings.unbind(alias)
 
     def set_var(self, name: str, value: str, scope: str = "U") -> None:
-        self.session.bindings.set_var(name if name.startswith("@") else "@" + name, value,
-                                      scope, self.rule.id)
+        self.host.bindings.set_var(name if name.startswith("@") else "@" + name, value,
+                                   scope, self.rule.id)
 
     def set_att(self, alias: str, name: str, value: str, scope: str = "U") -> None:
-        self.session.bindings.set_att(alias, name.lstrip("$"), value, scope, self.rule.id)
+        self.host.bindings.set_att(alias, name.lstrip("$"), value, scope, self.rule.id)
 
     def record_goal(self, kind: str, goalid: str) -> None:
         """Record a goal as `reached`, `interrupted` or `failed` in the map."""
-        self.session.record_goal(kind, goalid, by=self.rule.id)
+        self.host.record_goal(kind, goalid, by=self.rule.id)
 
     def post_update(self, objectid: str, attributename: str, policy: str, jsonmsg) -> None:
         """Send a MapUpdate as a sensor would (applied at the next step 4)."""
-        self.session.post_update(objectid, attributename, policy, jsonmsg, source=self.rule.id)
+        self.host.post_update(objectid, attributename, policy, jsonmsg, by=self.rule.id)
 
     def set_condition(self, text: str) -> None:
         """Change the rule's own condition (thesis 4.3: it "can be changed on run-time")."""
@@ -171,8 +197,7 @@ class RuleContext:
 
     def note(self, message: str, **data) -> None:
         """A line in the trace (`rule_note`)."""
-        self.session.trace.emit(self.now, "rule_note", id=self.rule.id,
-                                rulecode=self.rule.rulecode, message=message, **data)
+        self.host.note(self.now, self.rule, message, data)
 
 
 # ---------------------------------------------------------------------------------------------

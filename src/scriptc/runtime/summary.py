@@ -1,9 +1,9 @@
-"""What `scriptc run` prints: a readable summary of a `Result`, or one JSON object."""
+"""What `scriptc run` prints: a readable summary of a `RunResult`, or one JSON object."""
 
 from __future__ import annotations
 
 from scriptc.numbers import json_dumps
-from scriptc.runtime.session import Result
+from scriptc.runtime.loop import RunResult
 
 _OUTCOMES = {
     "completed": "every script ended",
@@ -15,7 +15,7 @@ _OUTCOMES = {
 }
 
 
-def _running(result: Result) -> str:
+def _running(result: RunResult) -> str:
     """What an interrupted run was running: the script loaded last, unless it had ended."""
     if result.loads and result.loads[-1].ended_by is None:
         load = result.loads[-1]
@@ -27,7 +27,7 @@ _CAPPED = ("the scripts did not end within the default limit of one hour of simu
            "(pass --until to run longer)")
 
 
-def summary_json(result: Result, trace_path: str | None = None, capped: bool = False) -> str:
+def summary_json(result: RunResult, trace_path: str | None = None, capped: bool = False) -> str:
     data = result.as_dict()
     data["trace"] = trace_path
     if capped:
@@ -47,7 +47,7 @@ def _fixed(value: float) -> str:
     return text[1:] if text == "-0.0000" else text
 
 
-def summary_text(result: Result, trace_path: str | None = None, capped: bool = False) -> str:
+def summary_text(result: RunResult, trace_path: str | None = None, capped: bool = False) -> str:
     interrupted = result.outcome == "interrupted"
     lines = [f"{result.outcome} at {result.time_ms} ms ({result.time_ms / 1000:.3f} s "
              f"simulated): {_OUTCOMES.get(result.outcome, result.outcome)}"

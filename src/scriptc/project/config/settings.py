@@ -41,12 +41,24 @@ def selector_specificity(selector: str, code: str, name: str) -> int | None:
     return None
 
 
-def selected_codes(selector: str) -> list[str]:
-    """The registry codes a selector names (empty when it names none)."""
+def selected_codes(selector: str, *, at_run_time: bool = False) -> list[str]:
+    """The codes lint may report that a selector names (empty when it names none); with
+    `at_run_time`, the run-time codes it names instead (family X: lint never reports them)."""
     from scriptc.diagnostics.codes import all_codes
 
-    return [c.code for c in all_codes()
-            if selector_specificity(selector, c.code, c.name) is not None]
+    return [c.code for c in all_codes() if c.at_run_time == at_run_time
+            and selector_specificity(selector, c.code, c.name) is not None]
+
+
+def run_time_refusal(selector: str) -> str | None:
+    """Why a selector that names no code lint reports is refused when it names run-time codes
+    (None when it names none of those either)."""
+    codes = selected_codes(selector, at_run_time=True)
+    if not codes:
+        return None
+    shown = codes[0] if len(codes) == 1 else f"{codes[0]}..{codes[-1]}"
+    return (f"`{selector}` names only run-time codes ({shown}), which lint never reports: they "
+            "are in the trace of `scriptc run`")
 
 
 def _best(selectors: Iterable[str], code: str, name: str) -> int | None:
@@ -233,13 +245,13 @@ class Settings:
 
     @cached_property
     def _table(self) -> dict[str, tuple[bool, Severity | None]]:
-        """code -> (reported?, overridden severity) for every code of the registry."""
-        from scriptc.diagnostics.codes import all_codes
+        """code -> (reported?, overridden severity) for every code lint may report."""
+        from scriptc.diagnostics.codes import lint_codes
 
         table = {}
         overrides = [(selector, SEVERITIES[value]) for selector, value in self.severity
                      if value in SEVERITIES]
-        for c in all_codes():
+        for c in lint_codes():
             if c.severity is Severity.ERROR:
                 table[c.code] = (True, None)
                 continue
@@ -256,11 +268,11 @@ class Settings:
 
     def policy(self) -> dict[str, tuple[bool, Severity]]:
         """code -> (whether it is reported, the severity it is reported with), for every code
-        of the registry, before per-file ignores (`scriptc show-settings`)."""
-        from scriptc.diagnostics.codes import all_codes
+        lint may report, before per-file ignores (`scriptc show-settings`)."""
+        from scriptc.diagnostics.codes import lint_codes
 
         table = self._table
-        return {c.code: (table[c.code][0], table[c.code][1] or c.severity) for c in all_codes()}
+        return {c.code: (table[c.code][0], table[c.code][1] or c.severity) for c in lint_codes()}
 
     @cached_property
     def _per_file(self) -> list[tuple[Any, tuple[str, ...]]]:

@@ -15,7 +15,7 @@ import os
 from functools import cache
 from typing import Any
 
-from scriptc.project.config.settings import selected_codes
+from scriptc.project.config.settings import run_time_refusal, selected_codes
 from scriptc.project.config.tomlpos import KeyPath, Positions, locate
 from scriptc.diagnostics.model import Diagnostic
 from scriptc.diagnostics.codes import diagnostic
@@ -221,11 +221,16 @@ class _Checker:
 
     def selector(self, selector: str, path: KeyPath, *, at: str = "value",
                  may_be_error: bool = False, purpose: str = "ignored") -> None:
-        from scriptc.diagnostics.codes import REGISTRY, all_codes
+        from scriptc.diagnostics.codes import REGISTRY, lint_codes
 
         codes = selected_codes(selector)
+        refusal = None if codes else run_time_refusal(selector)
+        if refusal is not None:
+            self.report("C004", refusal, path, at=at,
+                        help="name lint's codes here (`scriptc explain --all` lists both)")
+            return
         if not codes:
-            known = [c.code for c in all_codes()] + [c.name for c in all_codes()]
+            known = [c.code for c in lint_codes()] + [c.name for c in lint_codes()]
             close = difflib.get_close_matches(selector, known, n=1, cutoff=0.6)
             self.report("C004", f"`{selector}` names no diagnostic code", path, at=at,
                         help=f"did you mean `{close[0]}`?" if close else
