@@ -82,7 +82,7 @@ def test_an_internal_error_is_reported_without_a_traceback(files: Path, monkeypa
     def broken(*args, **kwargs):
         raise RuntimeError("the checks fell over")
 
-    monkeypatch.setattr("scriptc.analysis.analyze.analyze_script", broken)
+    monkeypatch.setattr("scriptc.analysis.analyze.finish", broken)
     result = run("lint", "clean.script")
     assert result.exit_code == 2
     assert result.stderr.startswith("error: internal error: RuntimeError: the checks fell over\n")
@@ -94,7 +94,7 @@ def test_an_interrupt_exits_130_quietly(files: Path, monkeypatch) -> None:
     def interrupted(*args, **kwargs):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr("scriptc.analysis.analyze.analyze_script", interrupted)
+    monkeypatch.setattr("scriptc.analysis.analyze.finish", interrupted)
     result = run("compile", "clean.script")
     assert (result.exit_code, result.stderr) == (130, "error: interrupted\n")
     # lint says how far it got.
@@ -602,7 +602,7 @@ def test_process_internal_error_has_no_traceback(files: Path) -> None:
     # A file that decodes but whose analysis is forced to fail: patch the analysis in a child.
     code = ("import sys, scriptc.analysis.analyze as d\n"
             "def boom(*a, **k): raise ValueError('boom')\n"
-            "d.analyze_script = boom\n"
+            "d.finish = boom\n"
             "from scriptc.cli.main import main\n"
             "sys.argv = ['scriptc', 'lint', 'clean.script']\n"
             "main()\n")

@@ -88,39 +88,42 @@ def finish(source: SourceFile, script: Script | None, front: list[Diagnostic], *
     return diagnostics, suppressed
 
 
-def analyze_script(source: SourceFile, functions: FunctionRegistry = STANDARD,
-                   profile: Profile | None = None) -> Analysis:
-    """Parse, lower and check script syntax."""
-    from scriptc.frontend.script import lower_script
-
-    with gc_paused():
-        script, front = lower_script(source)
-        return Analysis(source, script, *finish(source, script, front, functions=functions,
-                                                kind=SourceKind.SCRIPT, profile=profile))
-
-
-def analyze_json(source: SourceFile, functions: FunctionRegistry = STANDARD,
-                 profile: Profile | None = None) -> Analysis:
-    """Read thesis JSON (schema, then IR) and run the same checks as for script syntax."""
-    from scriptc.frontend.thesis_json import script_from_json
-
-    with gc_paused():
-        script, front = script_from_json(source)
-        return Analysis(source, script, *finish(source, script, front, functions=functions,
-                                                kind=SourceKind.JSON, profile=profile))
+# The front end of each kind of source that is analysed: module and function turning a
+# SourceFile into a Script (or None) and the front end's diagnostics. Imported on first use.
+_FRONT_ENDS = {
+    SourceKind.SCRIPT: ("scriptc.frontend.script", "lower_script"),
+    SourceKind.JSON: ("scriptc.frontend.thesis_json", "script_from_json"),
+}
 
 
 def analyze_source(source: SourceFile, kind: SourceKind = SourceKind.SCRIPT,
                    functions: FunctionRegistry = STANDARD,
                    profile: Profile | None = None) -> Analysis:
-    """`analyze_script` or `analyze_json`, as `kind` says (bytecode is not analysed: it is
-    decoded and verified, `scriptc.bytecode`)."""
+    """Read `source` with the front end of its kind, then `finish` (bytecode is not analysed:
+    it is decoded and verified, `scriptc.bytecode`)."""
+    import importlib
+
     kind = SourceKind(kind)
-    if kind is SourceKind.SCRIPT:
-        return analyze_script(source, functions, profile)
-    if kind is SourceKind.JSON:
-        return analyze_json(source, functions, profile)
-    raise ValueError(f"a source of kind {kind!r} is not analysed")
+    if kind not in _FRONT_ENDS:
+        raise ValueError(f"a source of kind {kind!r} is not analysed")
+    module, function = _FRONT_ENDS[kind]
+    front_end = getattr(importlib.import_module(module), function)
+    with gc_paused():
+        script, front = front_end(source)
+        return Analysis(source, script, *finish(source, script, front, functions=functions,
+                                                kind=kind, profile=profile))
+
+
+def analyze_script(source: SourceFile, functions: FunctionRegistry = STANDARD,
+                   profile: Profile | None = None) -> Analysis:
+    """Parse, lower and check script syntax."""
+    return analyze_source(source, SourceKind.SCRIPT, functions, profile)
+
+
+def analyze_json(source: SourceFile, functions: FunctionRegistry = STANDARD,
+                 profile: Profile | None = None) -> Analysis:
+    """Read thesis JSON (schema, then IR) and run the same checks as for script syntax."""
+    return analyze_source(source, SourceKind.JSON, functions, profile)
 
 
 def analyze_bytes(name: str, data: bytes, kind: SourceKind = SourceKind.SCRIPT,
