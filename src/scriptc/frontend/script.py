@@ -14,8 +14,6 @@ from __future__ import annotations
 import difflib
 import re
 
-from lark import Token, Tree
-
 from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit
 from scriptc.diagnostics.codes import diagnostic
 from scriptc.gcpause import gc_paused
@@ -23,6 +21,7 @@ from scriptc.ir import nodes as ir
 from scriptc.ir.fields import fields_pattern, read_number
 from scriptc.language import COMMENT_PATTERN, STRING_ESCAPES, STRING_PATTERN, TRACKS, unescape
 from scriptc.source import SourceFile, Span
+from scriptc.syntax.larkshim import Token, Tree  # the parse trees (lark stays behind syntax/)
 from scriptc.syntax.parser import ParsedScript, parse_condition_tree, parse_items
 
 MOVE_FIELDS = ("v_x", "v_y", "v_theta", "wait_t", "duration")

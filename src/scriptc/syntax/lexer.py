@@ -11,80 +11,63 @@ parser accepts the keyword, so labels such as `b#goal#` remain names.
 from __future__ import annotations
 
 import re
+from collections.abc import Callable, Iterable
 
-from lark.exceptions import UnexpectedCharacters, UnexpectedToken
-from lark.lexer import Lexer, PatternStr, Token
-
-
-_new_str = str.__new__
-
-
-def match_token(m: re.Match, group: str, type_: str) -> Token:
-    """The token of the terminal `type_` that group `group` of a scanner's match read: a lark
-    Token without the cost of its keyword-argument constructor."""
-    value = m.group(group)
-    token = _new_str(Token, value)
-    token.type = type_
-    token.value = value
-    token.start_pos, token.end_pos = m.span(group)
-    token.line = token.column = token.end_line = token.end_column = None
-    return token
+from scriptc.syntax.larkshim import (CustomLexer, Token, accepted_terminals, in_lexer_order,
+                                     lexed_text, lexer_configuration, state_stack,
+                                     terminal_literal, terminal_regexp, token_from_match,
+                                     unexpected_characters, unexpected_token)
 
 
 class _Scanner:
     __slots__ = ("regex", "retype", "ignore", "skip", "alternatives")
 
     def __init__(self, terminals, ignore: frozenset[str], skip: str = "") -> None:
-        regexps = [t for t in terminals if not isinstance(t.pattern, PatternStr)]
+        regexps = [t for t in terminals if terminal_literal(t) is None]
         kept = []
         self.retype: dict[str, dict[str, str]] = {}
         for t in terminals:
-            if isinstance(t.pattern, PatternStr):
-                owner = next(
-                    (r for r in regexps if re.fullmatch(r.pattern.to_regexp(), t.pattern.value)),
-                    None,
-                )
+            literal = terminal_literal(t)
+            if literal is not None:
+                owner = next((r for r in regexps if re.fullmatch(terminal_regexp(r), literal)),
+                             None)
                 if owner is not None:
                     # A keyword that the name pattern also matches: retype after matching.
-                    self.retype.setdefault(owner.name, {})[t.pattern.value] = t.name
+                    self.retype.setdefault(owner.name, {})[literal] = t.name
                     continue
             kept.append(t)
-        kept.sort(key=lambda t: (-t.priority, -t.pattern.max_width, -len(t.pattern.value), t.name))
         # Whitespace (`skip`) is consumed in the same match as the token that follows it.
-        self.alternatives = [(t.name, t.pattern.to_regexp()) for t in kept]  # in match order
+        self.alternatives = [(t.name, terminal_regexp(t))
+                             for t in in_lexer_order(kept)]  # in match order
         alternatives = "|".join(f"(?P<{name}>{regexp})" for name, regexp in self.alternatives)
         self.regex = re.compile(f"{skip}(?:{alternatives})")
         self.ignore = ignore
         self.skip = skip
 
 
-class ContextualFastLexer(Lexer):
-    """Interface 2 of lark's custom lexers: `lex(lexer_state, parser_state)`."""
-
-    __future_interface__ = 2
+class ContextualFastLexer(CustomLexer):
+    """A custom lexer of lark's: `lex(lexer_state, parser_state)` (the parser's state tells
+    which terminals it accepts)."""
 
     def __init__(self, lexer_conf) -> None:
-        self.terminals = list(lexer_conf.terminals)
+        self.terminals, self.ignore, self.callbacks = lexer_configuration(lexer_conf)
         self.by_name = {t.name: t for t in self.terminals}
-        self.ignore = frozenset(lexer_conf.ignore)
         # The ignored whitespace terminal is folded into every token's match (see _Scanner).
         self.skip = "".join(
-            f"(?:{self.by_name[n].pattern.to_regexp()})?" for n in self.ignore if n == "WS"
+            f"(?:{terminal_regexp(self.by_name[n])})?" for n in self.ignore if n == "WS"
         )
-        self.callbacks = dict(lexer_conf.callbacks)
         self._by_state: dict[int, _Scanner] = {}
         self._by_accepts: dict[frozenset[str], _Scanner] = {}
         self._root: _Scanner | None = None
 
-    def _scanner(self, parser_state) -> _Scanner:
-        return self.scanner_for(parser_state.position, parser_state.parse_conf.parse_table)
-
-    def scanner_for(self, position: int, parse_table) -> _Scanner:
-        """The scanner of parser state `position`: the terminals that state accepts (built on
-        first use, shared by the states that accept the same terminals)."""
+    def scanner_for(self, position: int,
+                    accepts: Callable[[int], Iterable[str]]) -> _Scanner:
+        """The scanner of parser state `position`, whose accepted names `accepts(position)`
+        gives: the terminals that state accepts (built on first use, shared by the states
+        that accept the same terminals)."""
         scanner = self._by_state.get(position)
         if scanner is None:
-            accepts = frozenset(parse_table.states[position])
+            accepts = frozenset(accepts(position))
             scanner = self._by_accepts.get(accepts)
             if scanner is None:
                 names = accepts | self.ignore
@@ -101,22 +84,25 @@ class ContextualFastLexer(Lexer):
         return self._root
 
     def lex(self, lexer_state, parser_state):
-        text_slice = lexer_state.text
-        text, pos, end = text_slice.text, text_slice.start, text_slice.end
+        text, pos, end = lexed_text(lexer_state)
         ignore = self.ignore
         callbacks = self.callbacks
         by_state = self._by_state
-        state_stack = parser_state.state_stack
+        states = state_stack(parser_state)
         ws = re.compile(self.skip) if self.skip else None
+        last = None  # the last token yielded, for the errors' history
         while pos < end:
-            scanner = by_state.get(state_stack[-1]) or self._scanner(parser_state)
+            position = states[-1]
+            scanner = by_state.get(position)
+            if scanner is None:
+                scanner = self.scanner_for(position, lambda _p: accepted_terminals(parser_state))
             m = scanner.regex.match(text, pos, end)
             if m is None:
                 if ws is not None:
                     pos = ws.match(text, pos, end).end()
                     if pos >= end:
                         break
-                self._fail(text, pos, end, parser_state, lexer_state)
+                self._fail(text, pos, end, parser_state, last)
             group = type_ = m.lastgroup
             retype = scanner.retype.get(group)
             if retype is not None:
@@ -124,23 +110,20 @@ class ContextualFastLexer(Lexer):
             pos = m.end()
             if type_ in ignore:
                 if type_ in callbacks:
-                    callbacks[type_](match_token(m, group, type_))
+                    callbacks[type_](token_from_match(m, group, type_))
                 continue
-            token = match_token(m, group, type_)
-            lexer_state.last_token = token
-            yield token
+            last = token_from_match(m, group, type_)
+            yield last
 
-    def _fail(self, text, pos, end, parser_state, lexer_state):
+    def _fail(self, text, pos, end, parser_state, last):
         """No terminal of this state matches: report a known token in the wrong place as
         UnexpectedToken (as lark does) and anything else as UnexpectedCharacters."""
-        accepts = set(parser_state.parse_conf.parse_table.states[parser_state.position])
+        accepts = accepted_terminals(parser_state)
         root = self._root_scanner()
         m = root.regex.match(text, pos, end)
         if m is not None and m.lastgroup not in self.ignore and m.end() > pos:
             type_ = m.lastgroup
             type_ = root.retype.get(type_, {}).get(m.group(), type_)
             token = Token(type_, m.group(), pos, end_pos=m.end())
-            raise UnexpectedToken(token, accepts, state=parser_state,
-                                  token_history=[lexer_state.last_token])
-        raise UnexpectedCharacters(text, pos, 0, 0, allowed=accepts, state=parser_state,
-                                   token_history=[lexer_state.last_token])
+            raise unexpected_token(token, accepts, parser_state, last)
+        raise unexpected_characters(text, pos, accepts, parser_state, last)

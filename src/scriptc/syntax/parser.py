@@ -17,15 +17,14 @@ import re
 from dataclasses import dataclass, replace
 from functools import cache
 
-from lark import Lark, Tree
-from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
-from lark.lexer import PatternStr
 
 from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit
 from scriptc.diagnostics.codes import diagnostic
 from scriptc.language import NAME_CHARS, OPEN_COMMENT_PATTERN, OPEN_STRING_PATTERN, OPERATORS
 from scriptc.resources import grammar_path
 from scriptc.source import Span
+from scriptc.syntax.larkshim import (Lark, Tree, UnexpectedCharacters, UnexpectedEOF,
+                                     UnexpectedInput, UnexpectedToken, terminal_literal)
 from scriptc.syntax.lexer import ContextualFastLexer
 from scriptc.syntax.scan import MAX_SYNTAX_ERRORS, Scan, scan
 from scriptc.syntax.shapes import ShapeParser
@@ -150,8 +149,9 @@ def _words(parser: Lark, names) -> list[str]:
     words = set()
     for name in names:
         t = terminals.get(name)
-        if t is not None and isinstance(t.pattern, PatternStr):
-            words.add(f"`{t.pattern.value}`")
+        literal = terminal_literal(t) if t is not None else None
+        if literal is not None:
+            words.add(f"`{literal}`")
         else:
             words.add(_TERMINAL_WORDS.get(_bare(name), f"`{_bare(name).lower()}`"))
     return sorted(words, key=lambda w: (not w.startswith("`"), w))

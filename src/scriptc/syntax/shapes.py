@@ -33,10 +33,7 @@ from __future__ import annotations
 
 import re
 
-from lark import Lark, Token, Tree
-from lark.parsers.lalr_analysis import Shift
-
-from scriptc.syntax.lexer import match_token
+from scriptc.syntax.larkshim import LalrTable, Lark, Token, Tree, lexer_of, token_from_match
 
 MAX_NODES = 50_000
 MAX_SHAPE_TOKENS = 2_000  # longer items are parsed, never recorded
@@ -80,15 +77,13 @@ class ShapeParser:
     def __init__(self, lark: Lark, start: str) -> None:
         self._lark = lark
         self.start = start
-        conf = lark.parser.parser.parser  # lark's LALR _Parser: its table and callbacks
-        self._table = conf.parse_table
-        self._callbacks = conf.callbacks
-        self._lexer = lark.parser.lexer  # a ContextualFastLexer
+        self._table = LalrTable(lark)
+        self._lexer = lexer_of(lark)  # a ContextualFastLexer
         self._ignore = self._lexer.ignore
         self._ws = re.compile(self._lexer.skip or r"\s*")
         self._skipped = {"WS"} if self._lexer.skip else set()  # the terminal `skip` reads
-        self._start_state = self._table.start_states[start]
-        self._end_state = self._table.end_states[start]
+        self._start_state = self._table.start_state(start)
+        self._end_state = self._table.end_state(start)
         self._actions: dict[int, dict[str, tuple]] = {}
         self._reset()
 
@@ -101,7 +96,7 @@ class ShapeParser:
         self._last: _Node | None = None  # the shape of the item parsed last
 
     def _scanner(self, state: int):
-        return self._lexer.scanner_for(state, self._table)
+        return self._lexer.scanner_for(state, self._table.accepts)
 
     def parse(self, text: str, start: str | None = None) -> Tree:
         if start is not None and start != self.start:
@@ -218,11 +213,7 @@ class ShapeParser:
         (None, the rule's length, lark's callback, the rule's non-terminal)."""
         row = self._actions.get(state)
         if row is None:
-            row = self._actions[state] = {
-                name: (arg, 0, None, None) if action is Shift
-                else (None, len(arg.expansion), self._callbacks[arg], arg.origin.name)
-                for name, (action, arg) in self._table.states[state].items()
-            }
+            row = self._actions[state] = self._table.actions(state)
         return row
 
     def _table_parse(self, text: str):
@@ -249,7 +240,7 @@ class ShapeParser:
                 pos = m.end()
                 if type_ in ignore:
                     continue
-                token = match_token(m, group, type_)
+                token = token_from_match(m, group, type_)
             row = actions(states[-1])
             while True:
                 action = row.get(type_)
@@ -273,7 +264,7 @@ class ShapeParser:
 
 def _compile(code: str, constants: list):
     """The function `build` that `code` defines, reading `constants` as `C`."""
-    namespace = {"T": match_token, "Tree": Tree, "C": constants}
+    namespace = {"T": token_from_match, "Tree": Tree, "C": constants}
     exec(compile(code, "<item shape>", "exec"), namespace)  # noqa: S102
     return namespace["build"]
 

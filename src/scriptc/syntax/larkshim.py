@@ -1,0 +1,177 @@
+"""The one door to lark: every name scriptc takes from lark, and every internal of lark it reads.
+
+No other module imports lark (an import-linter contract holds this). Two kinds of things pass
+through here:
+
+- **lark's public API**, re-exported: `Lark` (built with the LALR parser and a custom lexer),
+  `Tree` and `Token` (the parse trees the front end lowers, read by `data`, `children`, `type`
+  and `start_pos`/`end_pos`), the errors `UnexpectedInput`, `UnexpectedToken`,
+  `UnexpectedCharacters` and `UnexpectedEOF` (read by `token`, `expected`, `allowed`,
+  `pos_in_stream`), `Lexer` (the base of custom lexers) and `Lark.terminals`.
+- **lark's internals**, each read by one function or class below and nowhere else:
+  the LALR parser inside a `Lark` (`lark.parser.parser.parser`: its `parse_table` and its
+  tree-building `callbacks`) and the lexer instance (`lark.parser.lexer`); the parse table's
+  `states`, `start_states` and `end_states`, its actions (`Shift`, or a rule with `expansion`
+  and `origin.name`); a terminal's `pattern` (`PatternStr` or a regexp, `to_regexp()`,
+  `max_width`, `value`) and `priority`; the custom lexer's interface 2
+  (`__future_interface__`, `lex(lexer_state, parser_state)`, `LexerConf.terminals`, `ignore`
+  and `callbacks`, the lexer state's `text` (a `TextSlice`, or the text itself before lark
+  1.3), the parser state's `position`, `state_stack` and `parse_conf.parse_table`); the
+  constructors of `UnexpectedToken` and `UnexpectedCharacters` with a parser state; a `Token`
+  made without its constructor (`str.__new__` and its slots).
+
+tests/test_larkshim.py names each of these internals in a test of its own, so that a lark
+that changes one fails there, by name; `pyproject.toml` pins lark to the versions that pass it
+(with tests/test_shapes.py, which holds the trees equal to lark's own).
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Callable, Iterable
+from typing import Any
+
+from lark import Lark, Token, Tree
+from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
+from lark.lexer import Lexer, PatternStr
+from lark.parsers.lalr_analysis import Shift
+
+__all__ = [
+    "Lark", "Tree", "Token", "UnexpectedInput", "UnexpectedToken", "UnexpectedCharacters",
+    "UnexpectedEOF", "CustomLexer", "LalrTable", "lexer_of", "lexer_configuration",
+    "lexed_text", "state_stack", "accepted_terminals", "unexpected_token",
+    "unexpected_characters", "token_from_match", "terminal_literal", "terminal_regexp",
+    "in_lexer_order",
+]
+
+
+# ---------------------------------------------------------------------------------------------
+# Tokens
+
+_new_str = str.__new__
+
+
+def token_from_match(m: re.Match, group: str, type_: str) -> Token:
+    """The token of the terminal `type_` that group `group` of a match read: a lark `Token`
+    without the cost of its keyword-argument constructor (its slots set directly; no line
+    counting, positions are offsets)."""
+    value = m.group(group)
+    token = _new_str(Token, value)
+    token.type = type_
+    token.value = value
+    token.start_pos, token.end_pos = m.span(group)
+    token.line = token.column = token.end_line = token.end_column = None
+    return token
+
+
+# ---------------------------------------------------------------------------------------------
+# Terminals (the `TerminalDef`s of `Lark.terminals` and of a lexer's configuration)
+
+
+def terminal_literal(terminal) -> str | None:
+    """The text of a terminal written as a string in the grammar (`"goal"`), else None."""
+    pattern = terminal.pattern
+    return pattern.value if isinstance(pattern, PatternStr) else None
+
+
+def terminal_regexp(terminal) -> str:
+    """The terminal's pattern as a Python regexp."""
+    return terminal.pattern.to_regexp()
+
+
+def in_lexer_order(terminals: Iterable) -> list:
+    """The terminals in the order lark's lexer tries them: by priority, then the longest
+    possible match, then the longest literal, then the name."""
+    return sorted(terminals, key=lambda t: (-t.priority, -t.pattern.max_width,
+                                            -len(t.pattern.value), t.name))
+
+
+# ---------------------------------------------------------------------------------------------
+# Custom lexers (lark's interface 2)
+
+
+class CustomLexer(Lexer):
+    """The base of a lexer that lark's LALR parser drives: `lex(lexer_state, parser_state)`
+    yields tokens, reading the parser's state to know which terminals it accepts."""
+
+    __future_interface__ = 2
+
+
+def lexer_configuration(lexer_conf) -> tuple[list, frozenset[str], dict[str, Callable]]:
+    """What lark hands a custom lexer: the grammar's terminals, the names of the ignored ones
+    and the callbacks by terminal name."""
+    return list(lexer_conf.terminals), frozenset(lexer_conf.ignore), dict(lexer_conf.callbacks)
+
+
+def lexed_text(lexer_state) -> tuple[str, int, int]:
+    """The text a lexer reads, with the start and end of the part to read."""
+    text = lexer_state.text
+    if isinstance(text, str):  # lark before 1.3: the text itself
+        return text, 0, len(text)
+    return text.text, text.start, text.end
+
+
+def state_stack(parser_state) -> list[int]:
+    """The parser's stack of states (the last is the current one); it grows and shrinks as
+    the parser reads the tokens the lexer yields."""
+    return parser_state.state_stack
+
+
+def accepted_terminals(parser_state) -> frozenset[str]:
+    """The names of the terminals (and non-terminals) the parser's current state accepts."""
+    return frozenset(parser_state.parse_conf.parse_table.states[parser_state.position])
+
+
+def unexpected_token(token: Token, accepts: Iterable[str], parser_state,
+                     last: Token | None) -> UnexpectedToken:
+    """The error lark's lexer raises for a known token where the parser does not accept it."""
+    return UnexpectedToken(token, set(accepts), state=parser_state, token_history=[last])
+
+
+def unexpected_characters(text: str, pos: int, accepts: Iterable[str], parser_state,
+                          last: Token | None) -> UnexpectedCharacters:
+    """The error lark's lexer raises for text no terminal matches (no line counting)."""
+    return UnexpectedCharacters(text, pos, 0, 0, allowed=set(accepts), state=parser_state,
+                                token_history=[last])
+
+
+# ---------------------------------------------------------------------------------------------
+# The LALR parser inside a `Lark`
+
+
+def lexer_of(lark: Lark) -> Any:
+    """The lexer instance a `Lark` built (for `lexer=` a class: an instance of it)."""
+    return lark.parser.lexer
+
+
+class LalrTable:
+    """lark's LALR(1) parse table of a `Lark` and its tree-building callbacks, read as plain
+    data: states are numbers, each with its actions by terminal (or non-terminal) name."""
+
+    __slots__ = ("_table", "_callbacks")
+
+    def __init__(self, lark: Lark) -> None:
+        parser = lark.parser.parser.parser  # the LALR parser's core: its table and callbacks
+        self._table = parser.parse_table
+        self._callbacks = parser.callbacks
+
+    def start_state(self, start: str) -> int:
+        return self._table.start_states[start]
+
+    def end_state(self, start: str) -> int:
+        return self._table.end_states[start]
+
+    def accepts(self, state: int) -> frozenset[str]:
+        """The names state `state` has an action for."""
+        return frozenset(self._table.states[state])
+
+    def actions(self, state: int) -> dict[str, tuple[int | None, int, Callable | None,
+                                                     str | None]]:
+        """The actions of `state` by name: a shift is `(next state, 0, None, None)`; a
+        reduction is `(None, the rule's length, lark's callback that builds its tree, the
+        name of the rule's non-terminal)`."""
+        return {
+            name: (arg, 0, None, None) if action is Shift
+            else (None, len(arg.expansion), self._callbacks[arg], arg.origin.name)
+            for name, (action, arg) in self._table.states[state].items()
+        }
