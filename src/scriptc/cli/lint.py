@@ -34,7 +34,7 @@ def _selectors(option: str, *, ignoring: bool = False):
     suggested); `--ignore` may not name only errors, which are always reported."""
 
     def convert(_ctx: click.Context, _param: click.Parameter, values: tuple[str, ...]):
-        from scriptc.project.config.settings import selected_codes
+        from scriptc.project.config.settings import run_time_refusal, selected_codes
         from scriptc.diagnostics.codes import REGISTRY
 
         selectors = []
@@ -43,10 +43,13 @@ def _selectors(option: str, *, ignoring: bool = False):
                 if not selector:
                     continue
                 codes = selected_codes(selector)
+                refusal = None if codes else run_time_refusal(selector)
+                if refusal is not None:
+                    raise click.BadParameter(refusal, param_hint=f"'{option}'")
                 if not codes:
                     from scriptc.diagnostics.codes import suggest_codes
 
-                    hint = suggest_codes(selector)
+                    hint = suggest_codes(selector, lint_only=True)
                     message = f"`{selector}` names no diagnostic code"
                     if hint:
                         message += f"; did you mean {' or '.join(f'`{h}`' for h in hint)}?"

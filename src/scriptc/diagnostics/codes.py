@@ -191,13 +191,17 @@ def run_time_name(name: str) -> str:
     return name
 
 
-def suggest_codes(query: str, limit: int = 3) -> list[str]:
-    """Codes close to a mistyped code or name, best first (`scriptc explain`, `--select`)."""
+def suggest_codes(query: str, limit: int = 3, *, lint_only: bool = False) -> list[str]:
+    """Codes close to a mistyped code or name, best first (`scriptc explain`; `--select`
+    with `lint_only`: the codes lint may report)."""
     import difflib
 
-    hits = difflib.get_close_matches(query.upper(), list(REGISTRY), n=limit, cutoff=0.5)
-    hits += [BY_NAME[n].code for n in difflib.get_close_matches(query.lower(), list(BY_NAME),
-                                                                n=limit, cutoff=0.6)]
+    entries = lint_codes() if lint_only else _CODES
+    codes = [c.code for c in entries]
+    names = {c.name: c.code for c in entries}
+    hits = difflib.get_close_matches(query.upper(), codes, n=limit, cutoff=0.5)
+    hits += [names[n] for n in difflib.get_close_matches(query.lower(), list(names),
+                                                         n=limit, cutoff=0.6)]
     return list(dict.fromkeys(hits))[:limit]
 
 

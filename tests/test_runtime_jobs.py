@@ -1,0 +1,586 @@
+"""The runtime's jobs through their own interfaces (docs/runtime.md, "How it is built"): what a
+rule body may do through its `RuleContext` and `RuleHost`, the hand-over of rule messages and
+every transition of the chain, the chain pass and the lock, goal records, map updates,
+overrides and `script_vect`, the operator, the catalogue and the LIFO, and the run's status.
+Each job is built from its collaborators, as a test runner or a model checker would build
+it, and driven without a whole run."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import pytest
+
+from scriptc.analysis.analyze import analyze_bytes
+from scriptc.runtime.bindings import READER, Bindings
+from scriptc.runtime.commands import Position, RuleMessage
+from scriptc.runtime.goals import Goals
+from scriptc.runtime.interp import IRProgram
+from scriptc.runtime.loading import LoadError
+from scriptc.runtime.rules import STANDARD_RULES, Rule, RuleContext, RuleHost
+from scriptc.runtime.scenario import OperatorEvent
+from scriptc.runtime.scripts import Catalogue, LoadRecord
+from scriptc.runtime.session import Session
+from scriptc.runtime.status import NO_PROGRESS, RunStatus
+from scriptc.runtime.trace import Trace
+from scriptc.runtime.updates import Updates
+from scriptc.runtime.world import World, parse_update
+
+PLAIN = """\
+[plain]
+[goal:first]
+  [action]
+    [b##blk_inst: MV() LD() AO("Silence, 0, 1000")]
+[goal:second]
+  [action]
+    [b##blk_inst: MV() LD() AO("Silence, 0, 1000")]
+    [b##blk_terminus]
+"""
+
+
+def program(text: str = PLAIN, name: str = "t.script") -> IRProgram:
+    analysis = analyze_bytes(name, text.encode(), "script")
+    assert analysis.script is not None, analysis.diagnostics
+    return IRProgram(analysis.script, name)
+
+
+def started(*programs: IRProgram, **kwargs) -> Session:
+    """A session whose first script is loaded and read at 0 ms (the loop's first instant)."""
+    session = Session(list(programs) or [program()], **kwargs)
+    session.scripts.load_when_free(0)
+    session.scripts.read(0)
+    return session
+
+
+def message(action: str, mutex: str = "M", rid: str = "r", rulecode: int = 0,
+            intopic: str = "") -> RuleMessage:
+    return RuleMessage("alfa", rulecode, rid, intopic, "", action, mutex)
+
+
+# -- a rule body through its RuleContext: every effect goes to its host ----------------------
+
+
+@dataclass
+class Host:
+    """A RuleHost that records what a body asked."""
+
+    world: World = field(default_factory=World)
+    bindings: Bindings = field(default_factory=Bindings)
+    calls: list = field(default_factory=list)
+
+    def hold_motion(self) -> None:
+        self.calls.append(("hold",))
+
+    def record_goal(self, kind: str, goalid: str, by: str) -> None:
+        self.calls.append(("goal", kind, goalid, by))
+
+    def post_update(self, objectid, attributename, policy, jsonmsg, by: str) -> None:
+        self.calls.append(("update", objectid, attributename, policy, jsonmsg, by))
+
+    def note(self, now: int, rule: Rule, message: str, data: dict) -> None:
+        self.calls.append(("note", now, rule.id, message, data))
+
+
+def _context(host: Host, now: int = 40) -> RuleContext:
+    rule = STANDARD_RULES.make(message("A", rid="helper", rulecode=0))
+    return RuleContext(host, rule, now, evaluation=None)
+
+
+def test_a_rule_context_acts_only_through_its_host() -> None:
+    host = Host()
+    assert isinstance(host, object) and RuleHost  # the protocol a test may implement
+    ctx = _context(host)
+    assert ctx.world is host.world and ctx.bindings is host.bindings
+    ctx.hold_motion()
+    ctx.record_goal("failed", "g1")
+    ctx.post_update("Human/kid", "poses", "R", {"positionrho": 1.0})
+    ctx.note("hello", entity="Human/kid")
+    assert host.calls == [
+        ("hold",),
+        ("goal", "failed", "g1", "helper"),
+        ("update", "Human/kid", "poses", "R", {"positionrho": 1.0}, "helper"),
+        ("note", 40, "helper", "hello", {"entity": "Human/kid"}),
+    ]
+
+
+def test_a_rule_context_changes_the_map_and_the_bindings() -> None:
+    host = Host()
+    ctx = _context(host)
+    block = object()
+    assert ctx.block is None
+    ctx.replace_block(block)
+    info = host.world.script
+    assert ctx.block is block and info.changed
+    assert host.calls[-1][3] == "block changed"
+    ctx.override("other", "g2", 1, 2)
+    request = info.override
+    assert (request.script, request.goal, request.action, request.block, request.by) == \
+        ("other", "g2", 1, 2, "helper")
+    ctx.set_var("count", "3")
+    ctx.set_var("@mood", "calm", "T")
+    assert host.bindings.get_var("@count") == "3" and host.bindings.get_var("@mood") == "calm"
+    assert host.bindings.vars["@count"].scope == "U" and host.bindings.vars["@count"].owner == "helper"
+    assert host.bindings.vars["@mood"].scope == "T"
+    host.world.apply(parse_update("Human/kid", "poses", "R", {"positionrho": 1.0}), 0)
+    host.bindings.bind("?kid", host.world.entity("Human", "kid"), "U", READER)
+    ctx.set_att("?kid", "$mood", "happy")
+    assert host.bindings.get_att("?kid", "mood") == "happy"
+    ctx.drop_alias("?kid")
+    assert host.bindings.lookup("?kid") is None and host.bindings.get_att("?kid", "mood") is None
+    before = ctx.rule.condition
+    ctx.set_condition("! {E: eq(1, 1)}")
+    assert ctx.rule.condition is not before and ctx.rule.condition is not None
+    with pytest.raises(ValueError, match="condition `"):
+        ctx.set_condition("{NOT A CONDITION")
+
+
+# -- the session's host (mutex.RuleEffects) ------------------------------------------------------
+
+
+def test_the_sessions_rule_effects_reach_goals_updates_and_the_trace() -> None:
+    session = started(trace=Trace())
+    effects, trace = session.mutex.effects, session.trace
+    session.status.now = 7
+    effects.hold_motion()
+    assert effects.held
+    effects.record_goal("failed", "first", by="watch")
+    assert trace.events[-1] == {"t": 7, "event": "goal", "script": "plain", "goalid": "first",
+                                "record": "failed", "by": "watch"}
+    assert session.world.goal_records("goalfailed")[-1]["timestamp"] == 7
+    with pytest.raises(ValueError, match="reached, interrupted or failed"):
+        effects.record_goal("won", "first", by="watch")
+    effects.post_update("Human/kid", "poses", "X", {"positionrho": 1.0}, by="watch")
+    error = trace.errors[-1]
+    assert error["code"] == "update" and error["message"].startswith("watch: ")
+    assert not session.world.pending
+    effects.post_update("Human/kid", "poses", "R", {"positionrho": 1.0}, by="watch")
+    assert len(session.world.pending) == 1
+    rule = STANDARD_RULES.make(message("A", rid="watch", rulecode=0))
+    effects.note(7, rule, "seen", {"n": 1})
+    assert trace.events[-1] == {"t": 7, "event": "rule_note", "id": "watch", "rulecode": 0,
+                                "message": "seen", "n": 1}
+
+
+# -- the hand-over: every action in every state of the chain (docs/runtime.md's table) ----------
+
+
+def _apply(session: Session, action: str, kind: str = "alfa", rulecode: int = 0) -> dict:
+    session.mutex.hand_over(0, (RuleMessage(kind, rulecode, "r", "", "", action, "M"),),
+                            kind, "plain")
+    return [e for e in session.trace.events if e["event"] == "rule"][-1]
+
+
+def _in_state(state: str) -> Session:
+    session = started(trace=Trace())
+    for action in {"unknown": (), "active": ("A",), "delayed": ("D",),
+                   "removed": ("A", "R")}[state]:
+        _apply(session, action)
+    return session
+
+
+TRANSITIONS = {
+    # (action, state): (result, note or None, chain after, held after)
+    ("A", "unknown"): ("added", None, ["r"], {}),
+    ("A", "active"): ("unchanged", "already in the chain", ["r"], {}),
+    ("A", "delayed"): ("added", None, ["r"], {}),
+    ("A", "removed"): ("added", None, ["r"], {}),
+    ("R", "unknown"): ("unchanged", "not in the chain: nothing to remove", [], {}),
+    ("R", "active"): ("removed", None, [], {"r": "removed"}),
+    ("R", "delayed"): ("removed", "was held back, not in the chain", [], {"r": "removed"}),
+    ("R", "removed"): ("unchanged", "not in the chain: nothing to remove", [], {"r": "removed"}),
+    ("D", "unknown"): ("delayed", None, [], {"r": "delayed"}),
+    ("D", "active"): ("unchanged", "already in the chain", ["r"], {}),
+    ("D", "delayed"): ("delayed", None, [], {"r": "delayed"}),
+    ("D", "removed"): ("delayed", None, [], {"r": "delayed"}),
+    ("B", "unknown"): ("added", "was not delayed: created and added", ["r"], {}),
+    ("B", "active"): ("unchanged", "already in the chain", ["r"], {}),
+    ("B", "delayed"): ("brought back", None, ["r"], {}),
+    ("B", "removed"): ("brought back", "was removed, not delayed", ["r"], {}),
+    ("C", "unknown"): ("added", "was not removed: created and added", ["r"], {}),
+    ("C", "active"): ("unchanged", "already in the chain", ["r"], {}),
+    ("C", "delayed"): ("recovered", "was delayed, not removed", ["r"], {}),
+    ("C", "removed"): ("recovered", None, ["r"], {}),
+}
+
+
+@pytest.mark.parametrize("action, state", list(TRANSITIONS), ids=lambda x: x)
+def test_every_rule_action_in_every_state(action: str, state: str) -> None:
+    session = _in_state(state)
+    before = session.mutex.chain.held.get("r")
+    event = _apply(session, action)
+    result, note, chain, held = TRANSITIONS[action, state]
+    assert (event["result"], event.get("note"), event["chain"]) == (result, note, chain)
+    chain_now = session.mutex.chain
+    assert chain_now.ids() == chain
+    assert {k: v[1] for k, v in chain_now.held.items()} == held
+    if (action, state) in (("C", "removed"), ("B", "delayed")):
+        # Put back, not made again: the same rule with its state.
+        assert chain_now.active[0] is before[0]
+
+
+def test_a_rule_that_cannot_be_made_is_reported_and_fails() -> None:
+    session = started(trace=Trace())
+    session.mutex.hand_over(0, (RuleMessage("alfa", 1, "safety", "distance=close", "", "A",
+                                            "U"),), "alfa", "plain")
+    error, rule = session.trace.errors[-1], session.trace.of_kind("rule")[-1]
+    assert error["code"] == "rule" and "`distance` must be a number" in error["message"]
+    assert rule["result"] == "failed" and rule["chain"] == []
+
+
+def test_an_unknown_rulecode_makes_a_rule_that_does_nothing_reported_once() -> None:
+    session = started(trace=Trace())
+    _apply(session, "A", rulecode=999)
+    assert [e["code"] for e in session.trace.errors] == ["unknown-rulecode"]
+    session.mutex.pass_chain(0)
+    session.mutex.pass_chain(1)
+    assert [e["code"] for e in session.trace.errors] == ["unknown-rulecode"]
+
+
+# -- the lock ------------------------------------------------------------------------------------
+
+
+def _misuses(session: Session) -> list[str]:
+    return [e["message"] for e in session.trace.errors if e["code"] == "mutex-misuse"]
+
+
+@pytest.mark.parametrize("kind, letters, expected, locked", [
+    ("alfa", "MU", [], False),
+    ("omega", "LM", [], True),
+    ("alfa", "LU", ["which the previous omega had already locked",
+                    "locks the map in the alfa list"], False),
+    ("alfa", "UM", ["unlocks the map before the end of the alfa list"], False),
+    ("alfa", "MM", ["leaves the map locked"], True),
+    ("omega", "ML", ["without locking the map first"], True),
+    ("omega", "LL", ["which omega of `plain` had already locked"], True),
+    ("omega", "LU", ["unlocks the map in the omega list"], False),
+])
+def test_mutex_misuse_is_reported_and_the_lock_does_what_the_messages_say(
+        kind: str, letters: str, expected: list[str], locked: bool) -> None:
+    session = started(trace=Trace())
+    mutex = session.mutex
+    mutex.lock(0, "the previous omega")  # as a script is loaded after another's omega
+    if kind == "omega":
+        mutex.unlock(0, "the alfa")
+    messages = tuple(RuleMessage(kind, 0, f"r{i}", "", "", "A", letter)
+                     for i, letter in enumerate(letters))
+    mutex.hand_over(0, messages, kind, "plain")
+    found = _misuses(session)
+    assert len(found) == len(expected)
+    for text, wanted in zip(found, expected):
+        assert wanted in text
+    assert mutex.chain.locked == locked
+
+
+def test_a_script_without_alfa_messages_completes_the_hand_over() -> None:
+    session = started(trace=Trace())
+    session.mutex.lock(0, "omega of `before`")
+    session.mutex.hand_over(0, (), "alfa", "plain")
+    assert not session.mutex.chain.locked
+    assert session.trace.events[-1]["by"] == "`plain` has no alfa messages: the hand-over is complete"
+    assert not _misuses(session)
+
+
+def test_the_chain_is_skipped_while_locked_said_once_per_lock() -> None:
+    session = started(trace=Trace())
+    _apply(session, "A")
+    mutex = session.mutex
+    mutex.lock(0, "a test")
+    for now in (1, 2):
+        mutex.pass_chain(now)
+    skipped = [e for e in session.trace.of_kind("mutex") if "note" in e]
+    assert [e["t"] for e in skipped] == [1]
+    mutex.unlock(3, "a test")
+    mutex.lock(4, "a test")
+    mutex.pass_chain(5)
+    assert [e["t"] for e in session.trace.of_kind("mutex") if "note" in e] == [1, 5]
+
+
+def test_the_chain_pass_runs_each_rule_in_turn_and_survives_a_body_that_raises() -> None:
+    turns = []
+
+    class Boom(Rule):
+        def on_true(self, ctx):
+            turns.append(("boom", ctx.now))
+            raise ZeroDivisionError("no")
+
+    class Holder(Rule):
+        condition_text = "{CLASS #Human L ?kid (?THIS>&positionrho OP< 1.0)} ! {TRUE}"
+
+        def on_true(self, ctx):
+            turns.append(("hold", ctx.bindings.lookup("?kid").key))
+            ctx.hold_motion()
+
+        def on_false(self, ctx):
+            turns.append(("free", ctx.now))
+
+    library = STANDARD_RULES.extended()
+    library.register(70, "boom", Boom)
+    library.register(71, "holder", Holder)
+    session = started(trace=Trace(), rules=library)
+    session.mutex.hand_over(0, (RuleMessage("alfa", 70, "b", "", "", "A", "M"),
+                                RuleMessage("alfa", 71, "h", "", "", "A", "U")), "alfa", "plain")
+    session.mutex.pass_chain(1)
+    assert turns == [("boom", 1), ("free", 1)] and not session.actuators.hold
+    error = session.trace.errors[-1]
+    assert error["code"] == "rule" and "rule `b` (rulecode 70) raised ZeroDivisionError: no" \
+        in error["message"]
+    session.world.post(parse_update("Human/kid", "poses", "R", {"positionrho": 0.5}))
+    session.updates.apply(2)
+    session.mutex.pass_chain(2)
+    assert turns[-1] == ("hold", "Human/kid") and session.actuators.hold
+    assert session.bindings.lookup("?kid") is None  # the rule's L binding ended with its turn
+    session.mutex.hand_over(3, (RuleMessage("omega", 70, "b", "", "", "R", "M"),
+                                RuleMessage("omega", 71, "h", "", "", "R", "M")), "omega", "plain")
+    session.mutex.pass_chain(3)
+    assert not session.actuators.hold  # an empty chain holds nothing
+
+
+# -- goal records -----------------------------------------------------------------------------
+
+
+def _goals() -> tuple[Goals, Trace, RunStatus, World]:
+    trace, world = Trace(), World()
+    status = RunStatus(trace)
+    goals = Goals(world, trace, status)
+    goals.begin("act", ("a", "b", "c"), LoadRecord("act", "act.script", "queue", 0))
+    return goals, trace, status, world
+
+
+def test_goals_follow_the_reader() -> None:
+    goals, trace, status, world = _goals()
+    goals.visit(0)
+    goals.visit(0)
+    goals.visit(2)  # a jump forward: `a` reached
+    goals.visit(1)  # a jump back: nothing
+    status.now = 5
+    goals.leave("terminus")  # the goal it ends in is reached
+    assert [(e["goalid"], e["record"], e["t"]) for e in trace.of_kind("goal")] == \
+        [("a", "reached", 0), ("b", "reached", 5)]
+    assert goals.load.goals == {"a": "reached", "b": "reached"}
+    assert goals.reached("a") and goals.reached("b") and not goals.reached("c")
+    assert [r["goalid"] for r in world.goal_records("goalreached")] == ["a", "b"]
+
+
+@pytest.mark.parametrize("how", ["override", "restart", "idle_escape"])
+def test_a_script_stopped_from_outside_interrupts_its_goal(how: str) -> None:
+    goals, trace, _status, _world = _goals()
+    goals.visit(1)
+    goals.leave(how)
+    goals.end()
+    assert [(e["goalid"], e["record"], e["script"]) for e in trace.of_kind("goal")] == \
+        [("b", "interrupted", "act")]
+    goals.record("failed", "c", by="rule")  # after the end: no script runs
+    assert trace.events[-1]["script"] == "" and trace.events[-1]["by"] == "rule"
+
+
+def test_a_seek_interrupts_the_goal_and_enters_afresh() -> None:
+    goals, trace, _status, _world = _goals()
+    goals.interrupt()  # no goal entered yet: nothing
+    goals.visit(2)
+    goals.interrupt()
+    goals.visit(0)  # entered afresh: not a jump back
+    goals.visit(1)
+    assert [(e["goalid"], e["record"]) for e in trace.of_kind("goal")] == \
+        [("c", "interrupted"), ("a", "reached")]
+
+
+def test_goalreached_counts_a_sensors_record_since_the_load_only() -> None:
+    goals, _trace, _status, world = _goals()
+    goals.load = LoadRecord("act", "act.script", "queue", 100)
+    world.robot.append("goalreached", {"goalid": "x", "timestamp": 99})
+    world.robot.append("goalreached", {"goalid": "y", "timestamp": 100, "activity": "other"})
+    assert not goals.reached("x") and not goals.reached("y")
+    world.robot.append("goalreached", {"goalid": "x", "timestamp": 100})
+    assert goals.reached("x")
+    goals.load = None
+    assert not goals.reached("x")
+
+
+# -- map updates ----------------------------------------------------------------------------
+
+
+def test_updates_are_posted_then_applied_and_script_vect_handed_on() -> None:
+    trace, world = Trace(), World()
+    handed = []
+    updates = Updates(world, trace, RunStatus(trace), lambda now, value: handed.append(value))
+    updates.post(3, parse_update("Human/kid", "poses", "R", {"positionrho": 1.0}))
+    updates.post(3, parse_update("Human/kid", "poses", "R", {"positionrho": 2.0}))
+    assert [e["status"] for e in trace.of_kind("update")] == ["dropped"]
+    updates.post(3, parse_update("Script", "script_vect", "R",
+                                 {"update": ["x"], "restart": "s_false"}))
+    updates.apply(3)
+    assert [e["status"] for e in trace.of_kind("update")] == ["dropped", "applied", "applied"]
+    assert world.entity("Human", "kid").fields["positionrho"] == 2.0
+    assert handed == [{"update": ["x"], "restart": "s_false"}]
+    assert not world.pending
+
+
+# -- overrides and script_vect ------------------------------------------------------------------
+
+TWO_GOALS = """\
+[two]
+[goal:start]
+  [action]
+    [b##blk_inst: MV() LD() AO("Silence, 0, 1000")]
+[goal:finish]
+  [action]
+    [b##blk_inst: MV() LD() AO("Silence, 0, 1000")]
+    [b##blk_terminus]
+"""
+
+
+def _override(session: Session, script: str, goal=0, action=0, block=0) -> None:
+    from scriptc.runtime.world import OverrideRequest
+
+    session.world.script.override = OverrideRequest(script, goal, action, block, "switch")
+    session.overrides.apply(0)
+
+
+def test_an_override_to_another_script_by_goal_id() -> None:
+    session = started(program(), catalogue=[program(TWO_GOALS, "two.script")], trace=Trace())
+    _override(session, "two", "finish")
+    trace = session.trace
+    assert trace.of_kind("override")[-1] == {"t": 0, "event": "override", "by": "switch",
+                                             "script": "plain", "to": "two",
+                                             "at": "goal1/act0/blk0"}
+    assert [e["reason"] for e in trace.of_kind("script_unload", "script_load")] == \
+        ["queue", "override", "override"]
+    assert session.scripts.executor.name == "two"
+    session.scripts.read(0)
+    assert session.scripts.issued_path == "goal1/act0/blk0"
+
+
+@pytest.mark.parametrize("script, goal, block, problem", [
+    ("nobody", 0, 0, "override by `switch`: no script named `nobody`"),
+    ("two", "middle", 0, "override by `switch`: `two` has no goal `middle`"),
+])
+def test_an_override_that_cannot_be_carried_out_switches_nothing(script, goal, block,
+                                                                 problem) -> None:
+    session = started(program(), catalogue=[program(TWO_GOALS, "two.script")], trace=Trace())
+    _override(session, script, goal, block=block)
+    assert session.trace.errors[-1]["message"] == problem
+    assert session.scripts.executor.name == "plain" and session.world.script.override is None
+
+
+def test_an_override_to_a_missing_block_of_another_script_starts_it_at_its_first() -> None:
+    session = started(program(), catalogue=[program(TWO_GOALS, "two.script")], trace=Trace())
+    _override(session, "two", 0, block=9)
+    assert session.trace.errors[-1]["message"].endswith(": it starts at its first block")
+    assert session.scripts.executor.name == "two"
+
+
+def test_an_override_to_the_running_script_is_a_seek() -> None:
+    session = started(program(TWO_GOALS, "two.script"), trace=Trace())
+    session.scripts.issue(0)
+    session.bindings.set_var("@kept", "yes", "U", "r")
+    _override(session, "two", 1)
+    trace = session.trace
+    assert trace.of_kind("goal")[-1]["record"] == "interrupted"
+    assert trace.of_kind("cmd_stop")[-1].get("cancelled") is True
+    assert session.scripts.need_read and not session.scripts.pending_issue
+    assert session.world.script.block is None
+    assert session.bindings.get_var("@kept") == "yes"  # bindings kept
+    assert not trace.of_kind("script_unload")
+    _override(session, "two", 0, block=7)
+    assert trace.errors[-1]["code"] == "override" and "has no block" in trace.errors[-1]["message"]
+
+
+def test_a_loader_failure_is_the_overrides_problem() -> None:
+    def loader(path: str):
+        raise LoadError(f"`{Path(path).name}` has errors")
+
+    session = started(program(), loader=loader, trace=Trace())
+    _override(session, "broken.script")
+    assert session.trace.errors[-1]["message"] == "override by `switch`: `broken.script` has errors"
+
+
+def test_script_vect_replaces_the_queue_and_restarts() -> None:
+    two = program(TWO_GOALS, "two.script")
+    session = started(program(), catalogue=[two], trace=Trace())
+    session.overrides.script_vect(0, {"update": ["two", "nobody"], "restart": "s_false"})
+    assert session.trace.errors[-1]["code"] == "script_vect"
+    assert session.scripts.lifo == [two] and session.world.script.script_vect == ["two"]
+    assert session.scripts.executor.name == "plain"
+    session.overrides.script_vect(0, {"update": ["two"], "restart": "s_true"})
+    assert [e["reason"] for e in session.trace.of_kind("script_unload")] == ["restart"]
+    assert session.scripts.executor.name == "two" and session.scripts.lifo == []
+
+
+# -- the operator ---------------------------------------------------------------------------------
+
+
+def test_the_operators_joystick_needs_the_safety_lock() -> None:
+    session = started(trace=Trace())
+    operator, act = session.operator, session.actuators
+    assert operator.on_event(5, OperatorEvent(5, "drive", {"v_x": 0.2}, 0)) is True
+    assert session.status.now == 5 and session.trace.events[-1]["ignored"] is True
+    assert not act.driving
+    operator.press(6, OperatorEvent(6, "safety_lock", {"held": True}, 1))
+    operator.press(6, OperatorEvent(6, "drive", {"v_x": 0.2, "duration": 10}, 2))
+    assert act.driving and act.drive_v == (0.2, 0.0, 0.0)
+    operator.press(7, OperatorEvent(7, "interrupt", {}, 3))
+    operator.press(8, OperatorEvent(8, "interrupt", {}, 4))
+    operator.press(9, OperatorEvent(9, "interrupt", {"on": True}, 5))
+    assert [e["on"] for e in session.trace.of_kind("operator") if e["command"] == "interrupt"] == \
+        [True, False, True]
+    assert act.frozen
+
+
+# -- scripts: the catalogue, the LIFO, idle ------------------------------------------------------
+
+
+def test_the_catalogue_finds_by_name_path_and_loader_and_keeps_what_it_loaded(
+        tmp_path: Path) -> None:
+    plain = program(name=str(tmp_path / "plain.script"))
+    loaded = []
+
+    def loader(path: str):
+        loaded.append(path)
+        return plain
+
+    catalogue = Catalogue([plain], str(tmp_path), loader)
+    assert catalogue.find("plain") is plain
+    assert catalogue.find("plain.script") is plain  # its path, relative to the folder
+    assert catalogue.find("other.script") is plain and catalogue.find("other.script") is plain
+    assert loaded == [str(tmp_path / "other.script")]
+    assert Catalogue([], str(tmp_path)).find("nothing") is None
+
+
+def test_the_lifo_runs_in_order_then_idles_or_completes() -> None:
+    a, b = program(name="a.script"), program(name="b.script")
+    session = Session([a, b], stop_when_done=False, trace=Trace())
+    scripts = session.scripts
+    assert scripts.lifo == [b, a]
+    scripts.load_when_free(0)
+    assert scripts.program is a
+    scripts.unload(0, "terminus")
+    scripts.next(0)
+    scripts.unload(0, "terminus")
+    scripts.next(0)
+    assert scripts.program is scripts.idle
+    scripts.queue([a])
+    scripts.load_when_free(0)  # a real script waits: idle is left
+    assert scripts.program is a
+    assert [(r.script, r.reason, r.ended_by) for r in scripts.loads][-2:] == \
+        [("idle_activity", "idle", "idle_escape"), ("plain", "queue", None)]
+    scripts.unload(0, "terminus")
+    assert not session.status.done
+    session.scripts.stop_when_done = True
+    scripts.next(0)
+    assert session.status.done and session.status.outcome == "completed"
+
+
+# -- the run's status ---------------------------------------------------------------------------
+
+
+def test_a_fatal_problem_stops_the_actuators_and_ends_the_run() -> None:
+    trace = Trace()
+    stopped = []
+    status = RunStatus(trace, on_fatal=stopped.append)
+    status.report(1, "update", "a warning")
+    assert not status.done and not stopped
+    status.fatal(2, NO_PROGRESS, "stuck")
+    assert stopped == [2] and status.done and status.outcome == "error"
+    assert [(e["code"], e["fatal"]) for e in trace.errors] == [("update", False),
+                                                               ("no-progress", True)]
