@@ -88,9 +88,6 @@ class Bindings:
             scope, owner = old.scope, old.owner
         self.vars[name] = Slot(value, scope, owner)
 
-    def drop_var(self, name: str) -> None:
-        self.vars.pop(name, None)
-
     def get_att(self, alias: str, name: str) -> str | None:
         slot = self.atts.get((alias, name))
         return slot.value if slot is not None else None  # type: ignore[return-value]

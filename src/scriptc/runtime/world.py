@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from scriptc.numbers import number_problem, whole_number
-from scriptc.runtime.commands import Instruction, to_text
+from scriptc.runtime.commands import Instruction
 from scriptc.source import Span
 from scriptc.frontend.jsonpos import JsonError, JsonNode, parse_json
 
@@ -455,7 +455,3 @@ class World:
         out["RobotStatus"] = {k: v for k, v in self.robot.fields.items()}
         return out
 
-
-def field_text(entity: Entity, name: str) -> str | None:
-    """A field's value as text (for `str()` and traces)."""
-    return to_text(entity.fields.get(name))
