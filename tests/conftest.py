@@ -1,4 +1,40 @@
+"""What every test module shares: tests/ on the import path (for `harness`), the one bless
+command (`pytest --bless` writes the expected files of the case files: tests/harness/), and
+the tiers (the markers of pyproject.toml: `lsp`, `editor`, `packaging` and `browser` tests are
+`slow` too, so `pytest -m "not slow"` leaves every tier out)."""
+
 import sys
 from pathlib import Path
 
+import pytest
+
 sys.path.insert(0, str(Path(__file__).parent))
+
+# The tiers that are slow by nature: a test marked with one of them is marked `slow` as well.
+SLOW_TIERS = ("lsp", "editor", "packaging", "browser")
+# Folders whose every test belongs to a tier.
+TIER_FOLDERS = {"lsp": "lsp", "editors": "editor"}
+
+
+def pytest_addoption(parser: pytest.Parser) -> None:
+    parser.addoption("--bless", action="store_true", default=False,
+                     help="write the expected files of the case files (tests/cases/) from what "
+                          "the code does now, instead of comparing; review `git diff tests/cases`")
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    if config.getoption("--bless"):
+        import harness
+
+        harness.BLESS = True
+
+
+@pytest.hookimpl(tryfirst=True)  # before `-m` deselects by these markers
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    tests = Path(__file__).parent
+    for item in items:
+        folder = item.path.relative_to(tests).parts[0] if item.path.is_relative_to(tests) else ""
+        if folder in TIER_FOLDERS:
+            item.add_marker(TIER_FOLDERS[folder])
+        if any(item.get_closest_marker(tier) for tier in SLOW_TIERS):
+            item.add_marker(pytest.mark.slow)

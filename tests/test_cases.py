@@ -1,56 +1,67 @@
-"""Runs every case file under tests/cases/ through the harness (see harness.py)."""
+"""The one runner of case files: every check of every case (tests/harness/ says what a case is,
+which aspects apply to it and what each writes), and the rules that keep the cases whole."""
 
 from __future__ import annotations
 
-from pathlib import Path
+import json
 
 import pytest
 
-from harness import CASES, case_files, expect, short_lines
-from scriptc.analysis.analyze import analyze_bytes
+import harness
+from harness.diagnostics import parsed
 
-SCRIPTS = case_files(".script")
-SCRIPTS = [p for p in SCRIPTS if not p.name.endswith(".out.script")]
-JSONS = case_files(".json")
+CHECKS = harness.checks()
 
 
-def _analyze(path: Path, kind: str):
-    """Through the byte decoding of `scriptc.analysis.read`, as the CLI reads files (so P007
-    has cases)."""
-    return analyze_bytes(str(path.relative_to(CASES)), path.read_bytes(), kind)
+@pytest.mark.parametrize("check", CHECKS, ids=[c.id for c in CHECKS])
+def test_case(check: harness.Check) -> None:
+    check.run()
 
 
-@pytest.mark.parametrize("path", SCRIPTS, ids=lambda p: str(p.relative_to(CASES)))
-def test_script_case(path: Path) -> None:
-    analysis = _analyze(path, "script")
-    expect(path.with_suffix(".diagnostics"), short_lines(analysis.source, analysis.diagnostics))
-    golden = path.with_suffix(".out.json")
-    if golden.exists():
-        from scriptc.emit.json import emit_json
-
-        assert analysis.ok, "a case with a golden JSON file must compile"
-        expect(golden, emit_json(analysis.script))
-
-
-@pytest.mark.parametrize("path", JSONS, ids=lambda p: str(p.relative_to(CASES)))
-def test_json_case(path: Path) -> None:
-    analysis = _analyze(path, "json")
-    expect(path.with_suffix(".diagnostics"), short_lines(analysis.source, analysis.diagnostics))
-    golden = path.with_suffix(".out.script")
-    if golden.exists():
-        from scriptc.emit.script import format_script
-
-        assert analysis.script is not None
-        expect(golden, format_script(analysis.script))
+def test_every_file_has_a_case() -> None:
+    """Each file under tests/cases/ is an input, an expected output or a declared support file:
+    an expected file whose input is gone (or misnamed) is found, not kept forever."""
+    stray = harness.unaccounted(CHECKS)
+    assert not stray, f"files no case reads or expects (remove them, or see tests/harness/): {stray}"
 
 
 def test_every_code_has_a_case() -> None:
-    """Each code of the registry is triggered by at least one case file."""
+    """Each code of the registry is reported by a case: a lint code in an expected diagnostics
+    file, a run-time code (family X) in an `error` event of an expected trace."""
     from scriptc.diagnostics.codes import all_codes
 
     seen = set()
-    for path in CASES.rglob("*.diagnostics"):
+    for path in [*harness.files("", "*.diagnostics"), *harness.files("", "*.lint")]:
+        seen.update(code for _span, _severity, code, _message in
+                    parsed(path.read_text(encoding="utf-8")))
+    names = set()
+    for path in harness.files("runtime", "*.trace.jsonl"):
         for line in path.read_text(encoding="utf-8").splitlines():
-            seen.add(line.split(" ")[2])
-    missing = [c.code for c in all_codes() if not c.retired and c.code not in seen]
+            event = json.loads(line)
+            if event.get("event") == "error":
+                names.add(event.get("code"))
+    missing = [c.code for c in all_codes() if not c.retired
+               and (c.name not in names if c.at_run_time else c.code not in seen)]
     assert not missing, f"codes without a case file: {missing}"
+
+
+def test_every_ide_feature_has_cases() -> None:
+    from harness import ide
+
+    features = {p.stem.split("_")[0] for p in ide.CASE_FILES}
+    assert features == set(ide.FEATURES), set(ide.FEATURES) - features
+
+
+def test_bytecode_refuses_what_no_vm_could_run() -> None:
+    """The runtime cases left out of the VM's runs are refused by code generation, with the
+    reason."""
+    from harness.runtime import NOT_IN_BYTECODE, RUNTIME
+    from scriptc.analysis.analyze import analyze_file
+    from scriptc.ops.build import emit
+    from scriptc.emit.codegen import CodegenError
+
+    for name in NOT_IN_BYTECODE:
+        path = RUNTIME / f"{name}.script"
+        analysis = analyze_file(path, name=harness.relative(path))
+        with pytest.raises(CodegenError, match="no block carries"):
+            emit(analysis.script, "bytecode", analysis.source)

@@ -3,10 +3,10 @@ by walking up, the policy it applies (selection, per-file ignores, severities), 
 functions in the checks, lazy implementations, and the cost of it all on `scriptc lint`'s
 fast path.
 
-Case files (tests are data): `tests/cases/config/NAME.toml` (a scriptc.toml) or
-`NAME.pyproject.toml` (a pyproject.toml) beside `NAME.diagnostics`, what checking it reports;
-`tests/cases/config/repo/` is a repository whose scripts have `NAME.lint` beside them, what
-`scriptc lint` reports with the repository's configuration (`UPDATE_EXPECT=1` re-blesses).
+Case files (tests are data, run by tests/test_cases.py): `tests/cases/config/NAME.toml` (a
+scriptc.toml) or `NAME.pyproject.toml` (a pyproject.toml) beside `NAME.diagnostics`, what
+checking it reports; `tests/cases/config/repo/` is a repository whose scripts have `NAME.lint`
+beside them, what `scriptc lint` reports with the repository's configuration.
 """
 
 from __future__ import annotations
@@ -20,7 +20,8 @@ from pathlib import Path
 
 import pytest
 
-from harness import CASES, expect, short_lines
+from harness import CASES
+from harness.diagnostics import parsed
 from scriptc.project.config import (ImplementationError, Resolver, Settings, build_settings,
                             find_config, load_config)
 from scriptc.project.config.tomlpos import locate
@@ -31,18 +32,13 @@ from scriptc.diagnostics.codes import diagnostic
 from scriptc.source import Span
 
 CONFIG_CASES = CASES / "config"
-TOML_CASES = sorted(CONFIG_CASES.glob("*.toml"))
 REPO = CONFIG_CASES / "repo"
 ROOT = Path(__file__).parent.parent
 
 
-@pytest.mark.parametrize("path", TOML_CASES, ids=lambda p: p.name)
-def test_config_case(path: Path) -> None:
-    loaded = load_config(str(path), pyproject=path.name.endswith(".pyproject.toml"))
-    expect(path.with_suffix(".diagnostics"), short_lines(loaded.source, loaded.diagnostics))
-
-
-def test_the_repository_case_lints_as_its_lint_files_say() -> None:
+def test_the_repository_lints_at_once_as_file_by_file() -> None:
+    """Linting the repository's folder finds each of its scripts, under a clean configuration,
+    and reports for each what its `NAME.lint` case (linted alone) holds."""
     from scriptc.ops.lint import LintOptions, lint_paths
 
     run = lint_paths([str(REPO)], options=LintOptions(cache=False, jobs=1))
@@ -52,7 +48,9 @@ def test_the_repository_case_lints_as_its_lint_files_say() -> None:
     assert set(reports) == {p.resolve() for p in scripts}  # the configuration is clean
     for script in scripts:
         report = reports[script.resolve()]
-        expect(script.with_suffix(".lint"), short_lines(report.source, report.diagnostics))
+        expected = parsed(script.with_suffix(".lint").read_text(encoding="utf-8"))
+        assert [(d.code, d.severity.value, d.message) for d in report.diagnostics] == [
+            (code, severity, message) for _span, severity, code, message in expected], script
 
 
 # ---------------------------------------------------------------------------------------------

@@ -1,11 +1,10 @@
 """The formatter (`scriptc.formatter`): case files, the API the language server calls, refusals,
 line endings and range formatting.
 
-Case files: `tests/cases/fmt/NAME.script` is the input, `NAME.fmt.script` beside it the exact
-expected output (`UPDATE_EXPECT=1` re-blesses, as for every case; review the diff). Each case
-is also checked to be a fixed point of the formatter and to compile to the same JSON (or the
-same diagnostic codes) before and after. The inputs are ordinary case files too, so
-tests/test_cases.py holds their diagnostics (`NAME.diagnostics`, `NAME.fmt.diagnostics`).
+Case files (the `fmt` aspect of tests/harness/, run by tests/test_cases.py):
+`tests/cases/fmt/NAME.script` is the input, `NAME.fmt.script` beside it the exact expected
+output; each is also checked to be a fixed point of the formatter and to compile to the same
+JSON (or the same diagnostic codes) before and after.
 """
 
 from __future__ import annotations
@@ -14,56 +13,13 @@ from pathlib import Path
 
 import pytest
 
-from harness import CASES, UPDATE
+from harness import CASES
+from harness.aspects import fmt_inputs
 from scriptc.diagnostics.edits import apply_edits
-from scriptc.analysis.analyze import analyze_script
-from scriptc.emit.json import emit_json
 from scriptc.formatter import LINE_WIDTH, FormatResult, format_range, format_text
-from scriptc.source import SourceFile
 
 FMT = CASES / "fmt"
-INPUTS = sorted(p for p in FMT.glob("*.script") if not p.name.endswith(".fmt.script"))
-
-
-def expected_path(path: Path) -> Path:
-    return path.with_name(path.name[: -len(".script")] + ".fmt.script")
-
-
-def expect_exact(path: Path, actual: str) -> None:
-    """Like harness.expect, but byte for byte: no newline translation on reading."""
-    if UPDATE:
-        path.write_bytes(actual.encode("utf-8"))
-        return
-    assert path.exists(), f"missing expected file {path} (run with UPDATE_EXPECT=1)"
-    expected = path.read_bytes().decode("utf-8")
-    assert actual == expected, f"{path.name} differs from the formatter's output:\n{actual}"
-
-
-def compiled(text: str) -> tuple[str | None, list[str]]:
-    """The thesis JSON of a script (None when it has errors) and its diagnostic codes."""
-    analysis = analyze_script(SourceFile("x.script", text))
-    codes = sorted(d.code for d in analysis.diagnostics)
-    return (emit_json(analysis.script) if analysis.ok else None), codes
-
-
-def check_fmt(path: Path) -> None:
-    """The one harness function of formatter cases."""
-    text = path.read_bytes().decode("utf-8")
-    result = format_text(text)
-    assert result.text is not None, result.diagnostics
-    expect_exact(expected_path(path), result.text)
-    assert format_text(result.text).text == result.text, "formatting twice changed the text"
-    assert compiled(result.text) == compiled(text), "formatting changed the meaning"
-
-
-@pytest.mark.parametrize("path", INPUTS, ids=lambda p: p.name)
-def test_fmt_case(path: Path) -> None:
-    check_fmt(path)
-
-
-def test_every_input_has_its_expected_output() -> None:
-    outputs = {p.name for p in FMT.glob("*.fmt.script")}
-    assert outputs == {expected_path(p).name for p in INPUTS}
+INPUTS = fmt_inputs()
 
 
 def test_canonical_case_is_unchanged() -> None:
@@ -117,7 +73,7 @@ def test_edges(text: str, expected: str) -> None:
 
 def test_crlf_stays_crlf() -> None:
     source = (FMT / "comments.script").read_bytes().decode("utf-8")
-    expected = expected_path(FMT / "comments.script").read_bytes().decode("utf-8")
+    expected = (FMT / "comments.fmt.script").read_bytes().decode("utf-8")
     crlf = source.replace("\n", "\r\n")
     assert format_text(crlf).text == expected.replace("\n", "\r\n")
 
@@ -133,11 +89,15 @@ def test_mixed_line_endings_take_the_first() -> None:
 
 
 def test_wrapped_lines_fit_when_they_can() -> None:
-    text = (FMT / "wrap_instruction.fmt.script").read_text(encoding="utf-8")
-    for line in text.splitlines():
-        if '"' in line and len(line) > LINE_WIDTH:
-            # only a single command longer than the width may stay longer
-            assert line.count('"') <= 2 or "blk_sens" in line, line
+    """What the formatter writes of long items: every line fits the width, but a line that
+    holds one string alone (a command or payload longer than the width, which cannot be cut)."""
+    text = (FMT / "wrap_instruction.script").read_text(encoding="utf-8")
+    assert max(map(len, text.splitlines())) > LINE_WIDTH
+    out = format_text(text).text
+    assert out is not None and out.count("\n") > text.count("\n")
+    for line in out.splitlines():
+        if len(line) > LINE_WIDTH:
+            assert line.count('"') <= 2, line
 
 
 def test_strings_and_numbers_keep_their_text() -> None:

@@ -1,5 +1,5 @@
 """The renderers over hand-made diagnostics: the text renderer is snapshot-tested against
-tests/cases/render/*.txt (`UPDATE_EXPECT=1` rewrites them), the machine formats are checked
+tests/cases/render/*.txt (`pytest --bless` rewrites them), the machine formats are checked
 field by field. The diagnostics are built by hand so that these tests do not depend on the
 parser or the checks."""
 

@@ -1,13 +1,12 @@
-"""Suppression comments (`% scriptc: ignore[...] %`): what they cover, what they cannot
-silence, and the C003 fix. The case files `tests/cases/config/suppress_*.script` hold most
-of the behaviour; these tests hold what a case file cannot show (the fix's text, the explain
-examples, where suppressed diagnostics go)."""
+"""Suppression comments (`% scriptc: ignore[...] %`): what they cover and what they cannot
+silence. The case files `tests/cases/config/suppress_*.script` (and `checks/fixes_keep_crlf`)
+hold most of the behaviour, the C003 fix's text included; these tests hold what a case file
+cannot show (the explain examples, where suppressed diagnostics go)."""
 
 from __future__ import annotations
 
 import pytest
 
-from scriptc.diagnostics.edits import apply_fixes
 from scriptc.analysis.analyze import analyze_bytes, analyze_script
 from scriptc.source import SourceFile
 from scriptc.analysis.suppress import find_suppressions
@@ -82,31 +81,6 @@ def test_a_file_without_the_marker_is_not_scanned(monkeypatch) -> None:
 
     monkeypatch.setattr("scriptc.syntax.scan.scan", boom)
     assert find_suppressions(SourceFile("t", "[a] % scripts: ignore %")) == ([], [])
-
-
-def fixed(text: str) -> str:
-    analysis = lint(text)
-    fixes = [d.fix for d in analysis.diagnostics if d.code == "C003"]
-    assert fixes and all(f.safe for f in fixes)
-    return apply_fixes(text, fixes)[0]
-
-
-def test_the_fix_removes_a_comment_alone_on_its_line() -> None:
-    text = HEAD + "% scriptc: ignore[F001] %\n[b##blk_terminus]\n"
-    assert fixed(text) == HEAD + "[b##blk_terminus]\n"
-    crlf = text.replace("\n", "\r\n")
-    assert fixed(crlf) == (HEAD + "[b##blk_terminus]\n").replace("\n", "\r\n")
-
-
-def test_the_fix_removes_a_trailing_comment_and_its_spaces() -> None:
-    text = HEAD + "[b##blk_terminus]   % scriptc: ignore[F001, A001] %\n"
-    assert fixed(text) == HEAD + "[b##blk_terminus]\n"
-
-
-def test_the_fix_keeps_the_codes_in_use() -> None:
-    text = UNREACHABLE.replace("{comment}", " % scriptc: ignore[M004, F001, A001] %")
-    assert fixed(text) == UNREACHABLE.replace("{comment}", " % scriptc: ignore[F001] %")
-    assert codes(fixed(text)) == []
 
 
 def test_unused_is_not_reported_when_the_checks_did_not_run() -> None:

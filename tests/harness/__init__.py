@@ -1,53 +1,129 @@
-"""The one harness for case files (tests are data).
+"""The one harness of case files (tests are data).
 
-A case is an input file under tests/cases/ with its expected outputs beside it:
+A case is an input file under tests/cases/ with its expected outputs beside it.
+tests/test_cases.py runs each input through every aspect that applies to it and compares each
+output with its expected file, byte for byte. `pytest --bless` (tests/conftest.py) writes the
+expected files from what the code does now instead: review the diff (`git diff tests/cases`)
+before committing it. An expected file that is missing fails with the file's name.
 
-- `NAME.script`  script syntax; `NAME.diagnostics` lists what `scriptc lint` reports, one line
-  each (`LINE:COL-ENDLINE:ENDCOL SEVERITY CODE message`, 1-based, columns in code points), empty
-  when the file is clean. `NAME.out.json`, when present, is the exact text `scriptc compile`
-  writes (a golden file: compared byte for byte).
-- `NAME.json`    thesis JSON; `NAME.diagnostics` as above for `scriptc check`, and
-  `NAME.out.script`, when present, the exact text `scriptc decompile` writes.
+The aspects (inputs, then what each writes beside them):
 
-`UPDATE_EXPECT=1 pytest tests/test_cases.py` rewrites the expected files from what the code
-does now; review the diff before committing it.
+- `diagnostics`: every `NAME.script` and `NAME.json` (thesis JSON) under tests/cases/, and the
+  configurations `config/NAME.toml` (a scriptc.toml) and `config/NAME.pyproject.toml`:
+  `NAME.diagnostics`, what `scriptc lint` (`scriptc check` for JSON) reports with the default
+  configuration: each diagnostic rendered whole, its span, and the text after its fix
+  (harness/diagnostics.py says how). Every code of the registry appears in one.
+- `lint`: the scripts of the repository `config/repo/` (its scriptc.toml, its functions in
+  `activity_functions.py`): `NAME.lint`, what `scriptc lint` reports there, in the same form.
+- `compile`: the scripts of `emit/`, and any script with a `NAME.out.json` beside it: the exact
+  text `scriptc compile` writes (`NAME.out.json`).
+- `decompile`: a thesis JSON file with a `NAME.out.script` beside it: what `scriptc decompile`
+  writes.
+- `fmt`: `fmt/NAME.script`: `NAME.fmt.script`, what the formatter writes; formatting it again
+  changes nothing, and it compiles to the same JSON (or the same codes) as the input. The
+  output is a script, so it has its own `NAME.fmt.diagnostics`.
+- `listing`: `bytecode/NAME.script`: `NAME.dis`, the listing of its bytecode (`scriptc dis`).
+- `ide`: `ide/FEATURE_NAME.script`, a script with the cursor written `$0`: `NAME.expect`, what
+  the editor feature answers there (harness/ide.py).
+- `trace`: `runtime/NAME.script` (or `.json`) with its scenarios `NAME[.VARIANT].world`:
+  `NAME[.VARIANT].trace.jsonl`, the trace of the run, through each executor (harness/runtime.py).
+
+`render/*.txt` are snapshots of the text renderer over hand-built diagnostics, written by
+tests/test_render.py through `expect`. A file under tests/cases/ that is neither an input, an
+expected output nor a declared support file (`SUPPORT`) fails `test_every_file_has_a_case`.
 """
 
 from __future__ import annotations
 
-import os
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass, field
 from pathlib import Path
 
-from scriptc.diagnostics.model import Diagnostic
-from scriptc.source import SourceFile
-
 CASES = Path(__file__).parent.parent / "cases"
-UPDATE = os.environ.get("UPDATE_EXPECT") == "1"
 
-
-def short_lines(source: SourceFile, diagnostics: list[Diagnostic]) -> str:
-    out = []
-    for d in diagnostics:
-        a = source.position(d.span.start)
-        b = source.position(d.span.end)
-        out.append(f"{a.line}:{a.column}-{b.line}:{b.column} {d.severity.value} {d.code} {d.message}\n")
-    return "".join(out)
+# Set by `pytest --bless` (tests/conftest.py): `expect` writes instead of comparing.
+BLESS = False
 
 
 def expect(path: Path, actual: str) -> None:
-    """Compare `actual` with the file at `path` (or write it when updating)."""
-    if UPDATE:
-        if actual or path.exists() or path.suffix == ".diagnostics":
-            path.write_text(actual, encoding="utf-8", newline="")
+    """Compare `actual` with the file at `path`, byte for byte (or write it when blessing)."""
+    if BLESS:
+        if not path.exists() or path.read_bytes() != actual.encode("utf-8"):
+            path.write_bytes(actual.encode("utf-8"))
         return
-    assert path.exists(), f"missing expected file {path} (run with UPDATE_EXPECT=1)"
-    expected = path.read_text(encoding="utf-8")
-    assert actual == expected, f"{path.name} differs from the actual output:\n{actual}"
+    assert path.exists(), f"missing expected file {relative(path)} (run `pytest --bless`)"
+    expected = path.read_bytes().decode("utf-8")
+    assert actual == expected, f"{relative(path)} differs from the actual output:\n{actual}"
 
 
-def case_files(suffix: str) -> list[Path]:
-    """The case files with this suffix: not the golden outputs, and nothing in a hidden folder
-    (a `.scriptc_cache` that linting `project/config/repo` from an editor leaves at its root, as every
-    project gets one)."""
-    return sorted(p for p in CASES.rglob(f"*{suffix}") if not p.name.endswith((".out.json",))
+def relative(path: Path) -> str:
+    """A case file's name as tests show it: relative to tests/cases/ (to the repository for an
+    input outside it, such as an example), with `/`."""
+    if path.is_relative_to(CASES):
+        return path.relative_to(CASES).as_posix()
+    return path.relative_to(CASES.parent.parent).as_posix()
+
+
+def stem(path: Path) -> str:
+    """A file's name without its suffix (`a.fmt.script` -> `a.fmt`)."""
+    return path.name[: -len(path.suffix)]
+
+
+def beside(path: Path, suffix: str) -> Path:
+    """The file beside `path` with its suffix replaced (`a.fmt.script`, `.diagnostics` ->
+    `a.fmt.diagnostics`)."""
+    return path.with_name(stem(path) + suffix)
+
+
+def files(folder: str = "", pattern: str = "*", *, recursive: bool = True) -> list[Path]:
+    """The files under tests/cases/FOLDER matching `pattern`, sorted, leaving out hidden
+    folders (a `.scriptc_cache` that linting `config/repo` from an editor leaves at its
+    root)."""
+    base = CASES / folder
+    found = base.rglob(pattern) if recursive else base.glob(pattern)
+    return sorted(p for p in found if p.is_file()
                   and not any(part.startswith(".") for part in p.relative_to(CASES).parts))
+
+
+@dataclass(frozen=True)
+class Check:
+    """One aspect of one case: `run` computes the outputs and `expect`s each of `expected`."""
+
+    aspect: str
+    input: Path
+    expected: tuple[Path, ...]
+    run: Callable[[], None] = field(compare=False)
+    variant: str = ""
+    reads: tuple[Path, ...] = ()  # input files beyond `input` (scenarios)
+
+    @property
+    def id(self) -> str:
+        return f"{self.aspect}:{relative(self.input)}" + (f"[{self.variant}]" if self.variant else "")
+
+
+# Files under tests/cases/ that are neither inputs nor expected outputs: what the cases need.
+SUPPORT = (
+    "config/repo/scriptc.toml",            # the configuration of the `lint` aspect's repository
+    "config/repo/activity_functions.py",   # the functions it declares
+)
+
+
+def checks() -> list[Check]:
+    """Every check of every case, aspect by aspect."""
+    from harness import aspects, ide, runtime
+
+    out: list[Check] = []
+    for make in (*aspects.ASPECTS, ide.checks, runtime.checks):
+        out.extend(make())
+    return out
+
+
+def unaccounted(all_checks: Iterable[Check]) -> list[str]:
+    """The files under tests/cases/ no check reads or expects, and that are no support file
+    (render snapshots aside)."""
+    known = {CASES / s for s in SUPPORT}
+    for check in all_checks:
+        known.add(check.input)
+        known.update(check.expected)
+        known.update(check.reads)
+    return [relative(p) for p in files() if p not in known and not relative(p).startswith("render/")]

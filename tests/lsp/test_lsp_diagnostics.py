@@ -7,6 +7,7 @@ from __future__ import annotations
 import pytest
 from lsprotocol import types as lsp
 
+from harness.diagnostics import parsed
 from lsptest import CASES, Doc
 from scriptc.analysis.analyze import analyze_script
 from scriptc.source import SourceFile
@@ -122,9 +123,9 @@ async def test_the_repository_configuration_applies(client, name):
     got = await doc.diagnostics()
     severity = {lsp.DiagnosticSeverity.Error: "error", lsp.DiagnosticSeverity.Warning: "warning",
                 lsp.DiagnosticSeverity.Information: "info"}
-    lines = [f"{d.range.start.line + 1}:{d.range.start.character + 1}-{d.range.end.line + 1}:"
-             f"{d.range.end.character + 1} {severity[d.severity]} {d.code} {d.message}" for d in got]
-    assert lines == path.with_suffix(".lint").read_text(encoding="utf-8").splitlines()
+    found = [(f"{d.range.start.line + 1}:{d.range.start.character + 1}-{d.range.end.line + 1}:"
+              f"{d.range.end.character + 1}", severity[d.severity], d.code, d.message) for d in got]
+    assert found == parsed(path.with_suffix(".lint").read_text(encoding="utf-8"))
     doc.close()
 
 

@@ -1,4 +1,4 @@
-"""Runtime case files (tests are data): a script, an optional scenario, the expected trace.
+"""The `trace` aspect of case files: a script, an optional scenario, the expected trace.
 
 Under tests/cases/runtime/:
 
@@ -19,7 +19,6 @@ Under tests/cases/runtime/:
 Every trace is also validated against `schemas/trace.schema.json`, and each case runs twice:
 the two traces must be identical, byte for byte. Each case runs through every executor of
 `EXECUTORS` (the IR interpreter and the bytecode VM) against the same expected trace.
-`UPDATE_EXPECT=1` rewrites the expected traces; review the diff.
 """
 
 from __future__ import annotations
@@ -27,12 +26,10 @@ from __future__ import annotations
 import json
 import re
 import shlex
-import sys
+from functools import cache
 from pathlib import Path
 
-import pytest
-
-from harness import CASES, expect
+from harness import CASES, Check, expect
 from scriptc.analysis.analyze import analyze_file
 from scriptc.robot.profile import DEFAULT_PROFILE
 from scriptc.runtime.interp import IRProgram
@@ -66,16 +63,15 @@ EXECUTORS = {
     "ir": lambda analysis, shown: IRProgram(analysis.script, shown),
     "vm": _vm_program,
 }
-EXECUTOR = "ir"  # the one `_program` uses; the test sets it per run
 
 
-def _program(path: Path, unchecked: bool = False):
+def _program(path: Path, executor: str, unchecked: bool = False):
     analysis = analyze_file(path, "json" if path.suffix == ".json" else "script",
                             name=str(path.relative_to(CASES)))
     assert analysis.script is not None, analysis.diagnostics
     if not unchecked:
         assert analysis.ok, [d.message for d in analysis.diagnostics]
-    return EXECUTORS[EXECUTOR](analysis, str(path.relative_to(CASES)))
+    return EXECUTORS[executor](analysis, str(path.relative_to(CASES)))
 
 
 def _options(path: Path) -> dict:
@@ -103,28 +99,29 @@ def _options(path: Path) -> dict:
     return options
 
 
-def _loader(folder: Path):
+def _loader(executor: str):
     def load(path: str):
         p = Path(path)
         if not p.exists():
             raise LoadError(f"`{p.name}` does not exist")
-        return _program(p)
+        return _program(p, executor)
 
     return load
 
 
-def run_case(path: Path, world: Path | None) -> Trace:
+def run_case(path: Path, world: Path | None, executor: str = "ir") -> Trace:
     options = _options(path)
     folder = path.parent
     unchecked = options["unchecked"]
-    programs = [_program(path, unchecked)] + [_program(folder / f, unchecked) for f in options["also"]]
-    catalogue = [_program(folder / f) for f in options["catalogue"]]
+    programs = [_program(path, executor, unchecked)] + [
+        _program(folder / f, executor, unchecked) for f in options["also"]]
+    catalogue = [_program(folder / f, executor) for f in options["catalogue"]]
     scenario = load_scenario(str(world)) if world is not None else None
     if scenario is not None:
         scenario.path = str(world.relative_to(CASES))  # the same text on every machine
     trace = Trace()
     Session(programs, scenario=scenario, trace=trace, catalogue=catalogue,
-            stop_when_done=not options["stay_idle"], loader=_loader(folder),
+            stop_when_done=not options["stay_idle"], loader=_loader(executor),
             max_loops_per_instant=options["max_loops"],
             profile=DEFAULT_PROFILE if options["governed"] else None).run(options["until"])
     return trace
@@ -143,11 +140,8 @@ def _runs() -> list[tuple[Path, Path | None, Path]]:
     return runs
 
 
-RUNS = _runs()
-
-
-@pytest.fixture(scope="module")
-def trace_validator():
+@cache
+def _trace_validator():
     import jsonschema
 
     from scriptc.resources import schema_path
@@ -156,37 +150,25 @@ def trace_validator():
     return jsonschema.Draft202012Validator(schema)
 
 
-@pytest.mark.parametrize(
-    "path, world, expected, executor",
-    [(p, w, e, x) for p, w, e in RUNS for x in EXECUTORS
-     if not (x == "vm" and p.stem in NOT_IN_BYTECODE)],
-    ids=[f"{e.name[: -len('.trace.jsonl')]}-{x}" for p, _, e in RUNS for x in EXECUTORS
-         if not (x == "vm" and p.stem in NOT_IN_BYTECODE)])
-def test_runtime_case(path: Path, world: Path | None, expected: Path, executor: str,
-                      trace_validator, monkeypatch) -> None:
-    monkeypatch.setattr(sys.modules[__name__], "EXECUTOR", executor)
-    first = run_case(path, world)
+def _check(path: Path, world: Path | None, expected: Path, executor: str) -> None:
+    first = run_case(path, world, executor)
     text = first.text()
-    assert run_case(path, world).text() == text, "two runs of the same inputs differ"
+    assert run_case(path, world, executor).text() == text, "two runs of the same inputs differ"
     for event in first.events:
-        errors = [e.message for e in trace_validator.iter_errors(event)]
+        errors = [e.message for e in _trace_validator().iter_errors(event)]
         assert not errors, (event, errors)
     expect(expected, text)
 
 
-def test_bytecode_refuses_what_no_vm_could_run() -> None:
-    """The cases left out of the VM's runs are refused by code generation, with the reason."""
-    from scriptc.ops.build import emit
-    from scriptc.emit.codegen import CodegenError
-
-    for name in NOT_IN_BYTECODE:
-        path = RUNTIME / f"{name}.script"
-        analysis = analyze_file(path, name=str(path.relative_to(CASES)))
-        with pytest.raises(CodegenError, match="no block carries"):
-            emit(analysis.script, "bytecode", analysis.source)
-
-
-def test_every_expected_trace_has_a_case() -> None:
-    wanted = {e for _, _, e in RUNS}
-    stale = [p.name for p in RUNTIME.glob("*.trace.jsonl") if p not in wanted]
-    assert not stale, f"expected traces without a case: {stale}"
+def checks() -> list[Check]:
+    out = []
+    for path, world, expected in _runs():
+        variant = expected.name[len(path.stem) + 1: -len(".trace.jsonl")]
+        for executor in EXECUTORS:
+            if executor == "vm" and path.stem in NOT_IN_BYTECODE:
+                continue
+            out.append(Check("trace", path, (expected,),
+                             lambda p=path, w=world, e=expected, x=executor: _check(p, w, e, x),
+                             variant=f"{variant}.{executor}" if variant else executor,
+                             reads=(world,) if world is not None else ()))
+    return out

@@ -1,4 +1,4 @@
-"""The editor API (scriptc.ide) on case files: tests are data.
+"""The `ide` aspect of case files: the editor API (scriptc.ide) at a cursor.
 
 A case is `tests/cases/ide/FEATURE_NAME.script`: a script with the cursor written `$0` (and,
 for features that take a range, the range's end written `$1`), whose first comment may give
@@ -6,10 +6,10 @@ arguments (`% ide: rename new_name %`). The feature is the file name's first wor
 complete, definition, references, rename, symbols, folding, tokens, actions, hints. The
 expected result is beside it, `FEATURE_NAME.expect`, in a plain text form written by the
 functions below (positions as 1-based `line:column` in code points, with the text they
-cover). `UPDATE_EXPECT=1 pytest tests/test_ide_cases.py` rewrites the expectations.
+cover).
 
 The markers are removed before analysis; the `.diagnostics` file beside each case is what
-`scriptc lint` says of the file as it is on disk, markers included (tests/test_cases.py).
+`scriptc lint` says of the file as it is on disk, markers included (the `diagnostics` aspect).
 """
 
 from __future__ import annotations
@@ -17,9 +17,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-import pytest
-
-from harness import CASES, expect
+from harness import CASES, Check, beside, expect
 from scriptc.diagnostics.edits import apply_edits
 from scriptc.ide import actions, completion, hints, hover, navigation, outline, tokens
 from scriptc.ide.answers import RenameError
@@ -161,14 +159,12 @@ FEATURES = {
 }
 
 
-@pytest.mark.parametrize("path", CASE_FILES, ids=lambda p: p.stem)
-def test_ide_case(path: Path) -> None:
+def _check(path: Path) -> None:
     feature = path.stem.split("_")[0]
     assert feature in FEATURES, f"{path.name}: the file name must start with one of {list(FEATURES)}"
     snapshot, cursor, end, args = _load(path)
-    expect(path.with_suffix(".expect"), FEATURES[feature](snapshot, cursor, end, args))
+    expect(beside(path, ".expect"), FEATURES[feature](snapshot, cursor, end, args))
 
 
-def test_every_feature_has_cases() -> None:
-    features = {p.stem.split("_")[0] for p in CASE_FILES}
-    assert features == set(FEATURES), set(FEATURES) - features
+def checks() -> list[Check]:
+    return [Check("ide", p, (beside(p, ".expect"),), lambda p=p: _check(p)) for p in CASE_FILES]
