@@ -558,15 +558,6 @@ def test_every_opcode_is_documented_and_sized() -> None:
     assert BY_NAME["MOVE"].size == 21
 
 
-def test_docs_are_current() -> None:
-    from scriptc.bytecode.docs import GENERATED, regions, update
-
-    text = (ROOT / "docs" / "bytecode.md").read_text(encoding="utf-8")
-    assert regions(text) == set(GENERATED)
-    assert update(text) == text, (
-        "docs/bytecode.md is stale: python -m scriptc.bytecode.docs docs/bytecode.md")
-
-
 def test_bytecode_does_not_import_the_ir() -> None:
     probe = ("import sys, scriptc.bytecode, scriptc.bytecode.docs\n"
              "bad = [m for m in sys.modules if m.startswith(('scriptc.ir', 'scriptc.syntax', "

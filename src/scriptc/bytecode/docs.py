@@ -2,19 +2,12 @@
 kinds and the opcode table (from `opcodes.py`).
 
 The prose of docs/bytecode.md is written by hand; each generated part sits between a pair of
-markers, `<!-- generated: NAME -->` and `<!-- end: NAME -->`, and `update` rewrites what is
-between them. `tests/test_bytecode_docs.py` fails when the file is stale;
-
-    python -m scriptc.bytecode.docs [docs/bytecode.md]
-
-brings it up to date.
+markers, `<!-- generated: NAME -->` and `<!-- end: NAME -->`, and `python -m scriptc.generate`
+rewrites what is between them from `GENERATED` (tests/test_generated.py fails when the file is
+stale).
 """
 
 from __future__ import annotations
-
-import re
-import sys
-from pathlib import Path
 
 from scriptc.bytecode import container as L
 from scriptc.bytecode.opcodes import (
@@ -28,7 +21,7 @@ from scriptc.bytecode.opcodes import (
     Opcode,
 )
 
-__all__ = ["render_layout", "render_kinds", "render_opcodes", "GENERATED", "update", "regions"]
+__all__ = ["render_layout", "render_kinds", "render_opcodes", "GENERATED"]
 
 
 def _cell(text: str) -> str:
@@ -115,33 +108,3 @@ def render_opcodes() -> str:
 
 
 GENERATED = {"layout": render_layout, "kinds": render_kinds, "opcodes": render_opcodes}
-
-_REGION = re.compile(r"(<!-- generated: (\w+) -->\n)(.*?)(<!-- end: \2 -->)", re.S)
-
-
-def update(text: str) -> str:
-    """`text` with every generated region rewritten from the code."""
-    def fill(m: re.Match) -> str:
-        render = GENERATED.get(m.group(2))
-        if render is None:
-            return m.group(0)
-        return f"{m.group(1)}\n{render()}\n\n{m.group(4)}"
-
-    return _REGION.sub(fill, text)
-
-
-def regions(text: str) -> set[str]:
-    return {m.group(2) for m in _REGION.finditer(text)}
-
-
-def main(argv: list[str] | None = None) -> None:
-    args = sys.argv[1:] if argv is None else argv
-    path = Path(args[0] if args else "docs/bytecode.md")
-    text = path.read_text(encoding="utf-8")
-    from scriptc.writing import write_file
-
-    write_file(str(path), update(text))
-
-
-if __name__ == "__main__":
-    main()

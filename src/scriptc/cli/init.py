@@ -25,6 +25,7 @@ import click
 
 from scriptc.cli.common import CliError, write
 from scriptc.project.provenance import PLACEHOLDER, Provenance, provenance
+from scriptc.robot.limits import toml_section
 from scriptc.writing import WriteError, write_file
 
 CONFIG = """\
@@ -42,17 +43,9 @@ ignore = []
 # Warnings that should fail the build:
 # severity = { M004 = "error" }
 
-# The robot the activities run on: the limits the safety checks and the simulator use.
-# These are examples: write your robot's.
-[robot]
-max-linear-speed = 0.5          # m/s
-max-angular-speed = 1.5         # rad/s
-max-linear-acceleration = 0.5   # m/s^2
-max-angular-acceleration = 2.0  # rad/s^2
-min-human-distance = 0.4        # m
-max-led-flash-rate = 3.0        # flashes per second
-max-volume = 0.8                # fraction of the speaker's full volume
-
+# The robot the activities run on: the limits the safety checks and the governor keep.
+# These are scriptc's safe defaults (a key left out keeps its default): write your robot's.
+""" + toml_section() + """
 # Functions of the rule grammar this repository adds (`B: waving()` in a condition), each
 # with the Python object that implements it, imported only when a simulation runs:
 # [[functions]]

@@ -78,9 +78,9 @@ LIMITS: tuple[Limit, ...] = (
           "the most flashes (onsets of light) the LEDs may make in any one second; "
           "photosensitivity guidance (WCAG 2.3.1) allows three",
           "K002, the governor"),
-    Limit("max-volume", "of full volume", 0.8, 0, True, 1,
-          "the loudest the speaker may play, a fraction of its full volume (audio commands "
-          "carry no volume, so every track plays at this one level)",
+    Limit("max-volume", "fraction of full volume", 0.8, 0, True, 1,
+          "the loudest the speaker may play (audio commands carry no volume, so every track "
+          "plays at this one level)",
           "the governor: the speaker's level"),
 )
 
