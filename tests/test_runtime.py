@@ -461,10 +461,21 @@ def test_ir_executor_reads_seeks_and_ends() -> None:
 
 
 def test_idle_activity_is_a_clean_script() -> None:
-    from scriptc.runtime.idle import IDLE_TEXT
+    """The idle activity, built as IR (the run time reads no script text), prints as a script
+    that lints clean and whose lowering is the same program."""
+    from scriptc.emit.script import format_script
+    from scriptc.runtime.idle import idle_program, idle_script
+    from scriptc.runtime.interp import IRProgram
 
-    analysis = analyze_bytes("idle.script", IDLE_TEXT.encode(), "script")
+    text = format_script(idle_script())
+    analysis = analyze_bytes("idle.script", text.encode(), "script")
     assert analysis.ok and not [d for d in analysis.diagnostics if d.severity.value != "info"]
+    assert format_script(analysis.script) == text
+    read, built = IRProgram(analysis.script), idle_program()
+    assert (read.name, read.goal_ids, read.labels, read.instructions, read.conditions) == \
+        (built.name, built.goal_ids, built.labels, built.instructions, built.conditions)
+    assert [b.condition_text for _, b in built.blocks if hasattr(b, "condition")] == \
+        [b.condition_text for _, b in read.blocks if hasattr(b, "condition")] == ["! {TRUE}"]
 
 
 def test_a_replacement_idle_activity_and_the_stalled_outcome() -> None:
