@@ -237,3 +237,30 @@ def test_show_settings_and_the_docs_show_the_defaults() -> None:
                 lines += 1
                 assert float(m.group(2)) == BY_KEY[m.group(1)].default, (path.name, m.group(0))
     assert lines == len(LIMITS)
+
+
+def test_the_prose_states_the_defaults() -> None:
+    """Where the docs and the codes' explanations give a limit's value in passing
+    (`max-linear-speed` (0.5 m/s by default)), it is the table's default."""
+    texts = [*(ROOT / "docs").glob("*.md"),
+             *(ROOT / "src/scriptc/diagnostics/explanations").glob("*.md")]
+    found = 0
+    for path in texts:
+        for m in re.finditer(r"`([a-z-]+)` \(([0-9.]+) ", path.read_text(encoding="utf-8")):
+            if m.group(1) in BY_KEY:
+                found += 1
+                assert float(m.group(2)) == BY_KEY[m.group(1)].default, (path.name, m.group(0))
+    assert found >= 5
+
+
+@FAST
+@given(st.text(alphabet="ab_.:9é -", max_size=10))
+@example("activity.functions:smiling")
+@example("a:é")
+def test_the_loader_and_the_schema_read_one_implementation_pattern(text: str) -> None:
+    from scriptc.project.config import build_settings
+
+    schema = json.loads((ROOT / "schemas/config.schema.json").read_text(encoding="utf-8"))
+    pattern = schema["$defs"]["implementation"]["pattern"]
+    declared = build_settings({"rules": [{"name": "r", "implementation": text}]})
+    assert bool(declared.rules) == (re.search(pattern, text) is not None)

@@ -7,8 +7,8 @@ files that cannot import Python repeat some of them, and are written from those 
 
 - the editor extension's TextMate grammar (`scriptc.ide.textmate`), its word and indentation
   patterns (lsp/vscode/language-configuration.json) and first-line pattern (package.json);
-- the JSON Schemas: the name and number patterns, the function kinds and the `[robot]` table of
-  the configuration's, the name and number patterns and the rule-message letters of the thesis
+- the JSON Schemas: the name and number patterns, the function kinds, the `[robot]` table and
+  the implementation pattern (`project/config/settings.py`) of the configuration's, the name and number patterns and the rule-message letters of the thesis
   script's, the robot profile of the trace's `session_start`;
 - the generated regions of docs/*.md, each between `<!-- generated: NAME -->` and
   `<!-- end: NAME -->` (the prose around them is written by hand): the lexical facts of
@@ -34,6 +34,7 @@ from pathlib import Path
 from typing import Any
 
 from scriptc import language
+from scriptc.project.config.settings import IMPLEMENTATION_PATTERN
 from scriptc.robot.limits import LIMITS, MISSING_LIMIT_RULE, toml_section
 
 __all__ = ["ROOT", "TARGETS", "generated", "stale", "fill_regions", "regions", "main"]
@@ -196,6 +197,7 @@ def _config_schema(old: str) -> str:
     kind["description"] = "; ".join(f"`{k}`: {v}" for k, v in language.FUNCTION_KINDS.items()) + "."
     kind["enum"] = list(language.FUNCTION_KINDS)
     defs["robot"] = _robot_table()
+    defs["implementation"]["pattern"] = _anchored(IMPLEMENTATION_PATTERN)
     return _compact_json(schema)
 
 

@@ -18,8 +18,8 @@ import re
 import sys
 from typing import Any, NamedTuple
 
-from scriptc.project.config.settings import (ALL, SEVERITIES, RuleSelection, Settings, UserFunction,
-                                             UserRule)
+from scriptc.project.config.settings import (ALL, IMPLEMENTATION_PATTERN, SEVERITIES, RuleSelection,
+                                             Settings, UserFunction, UserRule)
 from scriptc.diagnostics.model import Diagnostic
 from scriptc.diagnostics.codes import diagnostic
 from scriptc.language import FUNCTION_KINDS, is_name
@@ -265,8 +265,7 @@ def _name(value: Any) -> str | None:
 
 
 def _implementation(value: Any) -> str | None:
-    if isinstance(value, str) and re.fullmatch(
-            r"[A-Za-z_]\w*(\.[A-Za-z_]\w*)*:[A-Za-z_]\w*(\.[A-Za-z_]\w*)*", value, re.ASCII):
+    if isinstance(value, str) and re.fullmatch(IMPLEMENTATION_PATTERN, value):
         return value
     return None
 

@@ -105,6 +105,13 @@ class RuleSelection(NamedTuple):
 # The parts of a configuration
 
 
+# A Python object as `module:attribute` (`activity.functions:smiling`), dotted names of ASCII
+# identifiers on both sides: what `implementation` holds (schemas/config.schema.json is written
+# from it by `python -m scriptc.generate`).
+IMPLEMENTATION_PATTERN = (r"[A-Za-z_][A-Za-z0-9_]*(?:\.[A-Za-z_][A-Za-z0-9_]*)*"
+                          r":[A-Za-z_][A-Za-z0-9_]*(?:\.[A-Za-z_][A-Za-z0-9_]*)*")
+
+
 class ImplementationError(Exception):
     """A declared implementation (`module:attr`) that cannot be imported."""
 
