@@ -30,7 +30,8 @@ The aspects (inputs, then what each writes beside them):
 
 `render/*.txt` are snapshots of the text renderer over hand-built diagnostics, written by
 tests/test_render.py through `expect`. A file under tests/cases/ that is neither an input, an
-expected output nor a declared support file (`SUPPORT`) fails `test_every_file_has_a_case`.
+expected output nor a support file (`SUPPORT`: a case repository's configuration and code) fails
+`test_every_file_has_a_case`.
 """
 
 from __future__ import annotations
@@ -101,11 +102,10 @@ class Check:
         return f"{self.aspect}:{relative(self.input)}" + (f"[{self.variant}]" if self.variant else "")
 
 
-# Files under tests/cases/ that are neither inputs nor expected outputs: what the cases need.
-SUPPORT = (
-    "config/repo/scriptc.toml",            # the configuration of the `lint` aspect's repository
-    "config/repo/activity_functions.py",   # the functions it declares
-)
+# Files under tests/cases/ that are neither inputs nor expected outputs: what the cases need,
+# the configuration of a case repository (`config/repo/`, `runtime/repo/`) and the Python code
+# of the functions and rules it declares.
+SUPPORT = ("scriptc.toml", "*.py")
 
 
 def checks() -> list[Check]:
@@ -121,7 +121,7 @@ def checks() -> list[Check]:
 def unaccounted(all_checks: Iterable[Check]) -> list[str]:
     """The files under tests/cases/ no check reads or expects, and that are no support file
     (render snapshots aside)."""
-    known = {CASES / s for s in SUPPORT}
+    known = {p for pattern in SUPPORT for p in files("", pattern)}
     for check in all_checks:
         known.add(check.input)
         known.update(check.expected)

@@ -13,8 +13,13 @@ Under tests/cases/runtime/:
   errors: for the cases of run-time misuse), `--max-loops N` (loops at one instant before the
   session gives up; keeps the trace of a no-progress case short), `--governed` (with the safety
   governor and the default robot profile, as `scriptc run` runs: its `governor` events and
-  where the robot comes to rest are in the trace). FILE is relative to the case's folder.
+  where the robot comes to rest are in the trace), `--robot NAME` (the robot backend:
+  `kinematic` unless it says `mujoco`). FILE is relative to the case's folder.
 - Helper scripts live in `lib/`.
+- Every case is checked and run with its repository's setup, as `scriptc run` does: the
+  functions and rules its configuration declares with their Python implementations. The
+  cases of `repo/` have one (`repo/scriptc.toml`, the code in `repo/runtime_case_code.py`);
+  the others have none (the standard functions and rules).
 
 Every trace is also validated against `schemas/trace.schema.json`, and each case runs twice:
 the two traces must be identical, byte for byte. Each case runs through every executor of
@@ -31,7 +36,9 @@ from pathlib import Path
 
 from harness import CASES, Check, expect
 from scriptc.analysis.analyze import analyze_file
+from scriptc.project.setup import setup_for
 from scriptc.robot.profile import DEFAULT_PROFILE
+from scriptc.runtime.configured import implementations_for, rules_for
 from scriptc.runtime.interp import IRProgram
 from scriptc.runtime.scenario import load_scenario
 from scriptc.runtime.session import LoadError, Session
@@ -67,7 +74,8 @@ EXECUTORS = {
 
 def _program(path: Path, executor: str, unchecked: bool = False):
     analysis = analyze_file(path, "json" if path.suffix == ".json" else "script",
-                            name=str(path.relative_to(CASES)))
+                            name=str(path.relative_to(CASES)),
+                            functions=setup_for(str(path), cache=False).functions)
     assert analysis.script is not None, analysis.diagnostics
     if not unchecked:
         assert analysis.ok, [d.message for d in analysis.diagnostics]
@@ -79,7 +87,7 @@ def _options(path: Path) -> dict:
     m = re.search(r"^\s*run:(.*)$", text, re.MULTILINE) if path.suffix == ".script" else None
     args = shlex.split(m.group(1).rstrip().rstrip("%")) if m else []
     options = {"until": None, "also": [], "catalogue": [], "stay_idle": False, "unchecked": False,
-               "max_loops": 10_000, "governed": False}
+               "max_loops": 10_000, "governed": False, "robot": "kinematic"}
     it = iter(args)
     for arg in it:
         if arg == "--until":
@@ -94,6 +102,8 @@ def _options(path: Path) -> dict:
             options["unchecked"] = True
         elif arg == "--governed":
             options["governed"] = True
+        elif arg == "--robot":
+            options["robot"] = next(it)
         else:
             raise AssertionError(f"{path.name}: unknown run option {arg}")
     return options
@@ -120,23 +130,26 @@ def run_case(path: Path, world: Path | None, executor: str = "ir") -> Trace:
     if scenario is not None:
         scenario.path = str(world.relative_to(CASES))  # the same text on every machine
     trace = Trace()
+    settings = setup_for(str(path), cache=False).settings
     Session(programs, scenario=scenario, trace=trace, catalogue=catalogue,
             stop_when_done=not options["stay_idle"], loader=_loader(executor),
-            max_loops_per_instant=options["max_loops"],
+            max_loops_per_instant=options["max_loops"], robot=options["robot"],
+            functions=implementations_for(settings), rules=rules_for(settings),
             profile=DEFAULT_PROFILE if options["governed"] else None).run(options["until"])
     return trace
 
 
 def _runs() -> list[tuple[Path, Path | None, Path]]:
     runs = []
-    for path in sorted([*RUNTIME.glob("*.script"), *RUNTIME.glob("*.json")]):
-        stem = path.name[: -len(path.suffix)]
-        default = RUNTIME / f"{stem}.world"
-        variants = sorted(p for p in RUNTIME.glob(f"{stem}.*.world"))
-        runs.append((path, default if default.exists() else None, RUNTIME / f"{stem}.trace.jsonl"))
+    for path in sorted([*RUNTIME.glob("*.script"), *RUNTIME.glob("*.json"),
+                        *RUNTIME.glob("repo/*.script")]):
+        stem, folder = path.name[: -len(path.suffix)], path.parent
+        default = folder / f"{stem}.world"
+        variants = sorted(p for p in folder.glob(f"{stem}.*.world"))
+        runs.append((path, default if default.exists() else None, folder / f"{stem}.trace.jsonl"))
         for v in variants:
             variant = v.name[len(stem) + 1: -len(".world")]
-            runs.append((path, v, RUNTIME / f"{stem}.{variant}.trace.jsonl"))
+            runs.append((path, v, folder / f"{stem}.{variant}.trace.jsonl"))
     return runs
 
 
