@@ -43,14 +43,18 @@ _GRAMMARS = {name: grammar_path(name).read_text(encoding="utf-8")
              for name in ("condition.lark", "script.lark")}
 # A grammar's text without its `//` comments (no literal of ours holds `//`).
 _CODE = {name: re.sub(r"//[^\n]*", "", text) for name, text in _GRAMMARS.items()}
+# Each grammar's terminals (`NAME: /.../`, `ALFA: "alfa"`, `ALIAS: "?" NAME`): one regex for
+# all of them, since each compiled regex costs this module's import (on the lint path) time.
+_TERMINALS = {name: dict(re.findall(r"^([A-Z_]+)[ \t]*:[ \t]*(.*?)[ \t]*$", text, re.MULTILINE))
+              for name, text in _CODE.items()}
 
 
 def _definition(grammar: str, terminal: str) -> str:
     """The right-hand side of the terminal `terminal: ...` in a grammar file."""
-    m = re.search(rf"^{terminal}\s*:\s*(.*?)\s*$", _CODE[grammar], re.MULTILINE)
-    if m is None:  # a grammar that no longer states it: fail at import, not with a wrong rule
+    found = _TERMINALS[grammar].get(terminal)
+    if found is None:  # a grammar that no longer states it: fail at import, not with a wrong rule
         raise RuntimeError(f"grammar/{grammar} has no terminal `{terminal}`")
-    return m.group(1)
+    return found
 
 
 def _pattern(grammar: str, terminal: str) -> str:
@@ -98,8 +102,9 @@ _NOT_NAME_CHAR = re.compile(NAME_CHAR.replace("[", "[^", 1))
 # The names that start with a sigil, by the grammar's terminal: `?kid`, `#Human`, `@count`,
 # `$mood` (each is `"sigil" NAME` in the grammar).
 SIGILS: Mapping[str, str] = {
-    m.group(1): m.group(2) for m in re.finditer(r'^([A-Z_]+)\s*:\s*"(.)"\s+NAME\s*$',
-                                                _CODE["condition.lark"], re.MULTILINE)}
+    terminal: parts[0][1] for terminal, parts in (
+        (t, d.split()) for t, d in _TERMINALS["condition.lark"].items())
+    if len(parts) == 2 and parts[1] == "NAME" and re.fullmatch(r'"."', parts[0])}
 if set(SIGILS) != {"ALIAS", "CLASS_REF", "VAR_REF", "ATT_REF"}:
     raise RuntimeError(f"grammar/condition.lark states the prefixed names {sorted(SIGILS)}")
 THIS = _literal("condition.lark", "THIS")  # the candidate entity of a CLASS assignment's tests
