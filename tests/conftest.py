@@ -1,7 +1,8 @@
 """What every test module shares: tests/ on the import path (for `harness`), the one bless
-command (`pytest --bless` writes the expected files of the case files: tests/harness/), and
-the tiers (the markers of pyproject.toml: `lsp`, `editor`, `packaging` and `browser` tests are
-`slow` too, so `pytest -m "not slow"` leaves every tier out)."""
+command (`pytest --bless` writes the expected files of the case files, tests/harness/, and the
+files generated from the code, `python -m scriptc.generate`), and the tiers (the markers of
+pyproject.toml: `lsp`, `editor`, `packaging` and `browser` tests are `slow` too, so
+`pytest -m "not slow"` leaves every tier out)."""
 
 import sys
 from pathlib import Path
@@ -18,15 +19,20 @@ TIER_FOLDERS = {"lsp": "lsp", "editors": "editor"}
 
 def pytest_addoption(parser: pytest.Parser) -> None:
     parser.addoption("--bless", action="store_true", default=False,
-                     help="write the expected files of the case files (tests/cases/) from what "
-                          "the code does now, instead of comparing; review `git diff tests/cases`")
+                     help="write the expected files of the case files (tests/cases/) and the "
+                          "files generated from the code from what the code does now, instead "
+                          "of comparing; review `git diff`")
 
 
 def pytest_configure(config: pytest.Config) -> None:
     if config.getoption("--bless"):
         import harness
+        from scriptc import generate
 
         harness.BLESS = True
+        # The files generated from the code (docs/diagnostics.md, the schemas, the TextMate
+        # grammar) are blessed too: adding a diagnostic is then one bless, not two commands.
+        generate.main([])
 
 
 @pytest.hookimpl(tryfirst=True)  # before `-m` deselects by these markers

@@ -45,6 +45,17 @@ def test_every_code_has_a_case() -> None:
     assert not missing, f"codes without a case file: {missing}"
 
 
+def test_messages_are_written_as_the_house_style_says() -> None:
+    """rustc's style (CONTRIBUTING.md): a message starts lowercase (but for an acronym) and has
+    no final period; every message of every case is held to it."""
+    from test_codes import lowercase_start
+
+    wrong = sorted({(code, message) for path in harness.files("", "*.diagnostics")
+                    for _span, _severity, code, message in parsed(path.read_text(encoding="utf-8"))
+                    if not lowercase_start(message) or message.endswith(".")})
+    assert not wrong, wrong
+
+
 def test_every_ide_feature_has_cases() -> None:
     from harness import ide
 

@@ -234,6 +234,10 @@ _ELEMENTS = {"NUMBER", "STRING", "ALIAS", "THIS", "VAR_REF", "NAME"}
 
 def _expected(parser, expected, text, base, at, found, shown, code="P001", found_type="") -> Diagnostic:
     span = Span(base + at, base + at + len(found))
+    if not _words(parser, expected):
+        # The parser's state names no terminal it would take (`{ATT ?kid>$mood ...`: a field
+        # access where the attribute's alias ends): nothing to list, only what was found.
+        return diagnostic(code, f"unexpected {shown}", span)
     bare = {_bare(n) for n in expected}
     if "COMMA" in bare and found_type in _ELEMENTS:
         closers_expected = [w for w in _words(parser, expected) if w != "`,`"]
