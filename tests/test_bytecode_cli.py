@@ -42,7 +42,7 @@ def test_help_lists_dis() -> None:
 def test_compile_writes_scb_beside_the_input(folder: Path) -> None:
     result = run("compile", "--emit", "bytecode", "test_act.script")
     assert result.exit_code == 0, result.stderr
-    program = load((folder / "test_act.scb").read_bytes())
+    program = load((folder / "test_act.scb").read_bytes()).program
     analysis = analyze_file(EXAMPLE)
     expected = codegen(analysis.script, analysis.source)
     # The same code and tables as codegen makes (with or without the source's positions).

@@ -51,7 +51,7 @@ def test_generated_scripts_compile_verify_and_round_trip(text: str) -> None:
         return
     program = codegen(analysis.script, source)
     data = encode(program)
-    loaded = load(data)
+    loaded = load(data).program
     assert loaded == program
     assert encode(loaded) == data
     assert disassemble(loaded)
@@ -110,7 +110,7 @@ def corruptions(draw) -> bytes:
 @given(corruptions())
 def test_corrupted_files_are_refused_cleanly(data: bytes) -> None:
     try:
-        program = load(data)
+        program = load(data).program
     except BytecodeError as exc:
         assert exc.message and str(exc).startswith(("malformed bytecode: ",
                                                     "invalid bytecode: "))

@@ -60,7 +60,7 @@ def test_the_executor_contract_shown_is_the_modules() -> None:
         return {name for name in vars(cls) if not name.startswith("_")} | set(
             cls.__annotations__)
 
-    for name in ("Program", "Executor", "ReadSink"):
+    for name in ("Loadable", "Executor", "ReadSink"):
         assert members(namespace[name]) == members(getattr(executor, name)), name
 
 

@@ -1,5 +1,5 @@
 """The runtime through its library API and `scriptc run`: what the case files
-(test_runtime_cases.py) do not show as well — exact numbers, error messages, registration of
+(tests/cases/runtime/) do not show as well — exact numbers, error messages, registration of
 an activity's own functions and rules, the executor interface, bad scenario files."""
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ from scriptc.runtime.rules import STANDARD_RULES, RuleError, parse_condition_tex
 from scriptc.runtime.scenario import ScenarioError, load_scenario, scenario_from_data
 from scriptc.runtime.session import Session
 from scriptc.runtime.trace import Trace
-from scriptc.runtime.commands import Instruction, Move, Position, compare, format_number
+from scriptc.runtime.commands import BlockCommands, Move, Position, compare, format_number
 from scriptc.runtime.world import UpdateError, World, parse_update
 from scriptc.source import SourceFile
 
@@ -353,7 +353,7 @@ def test_user_functions_are_checked_and_run() -> None:
 
 def test_user_rules_change_the_block_hold_motion_and_set_vars() -> None:
     rules = STANDARD_RULES.extended()
-    slow = Instruction(moves=(Move(0.05, 0, 0, 0, 2000),))
+    slow = BlockCommands(moves=(Move(0.05, 0, 0, 0, 2000),))
 
     def swap(ctx):
         block = ctx.block
@@ -738,18 +738,24 @@ def test_cli_refuses_a_loop_that_never_lets_time_pass(tmp_path: Path) -> None:
 
 
 @pytest.mark.parametrize("op", ["OP<", "OP>", "OP="])
-@pytest.mark.parametrize("right", ["1.0", '"1.0"', '"abc"', "-3", '"s_true"'])
-def test_compiled_tests_mean_what_the_plain_ones_do(op: str, right: str) -> None:
-    from scriptc.runtime.evaluate import passes, passes_slow
+@pytest.mark.parametrize("right", ["1.0", '"1.0"', '"abc"', "-3", '"s_true"', "1e999"])
+def test_compiled_tests_mean_what_compare_op_does(op: str, right: str) -> None:
+    """A test compiled from the IR (the fast comparison of a field with a number among them)
+    holds exactly when `compare_op` says the field's value and the right side compare so."""
+    from scriptc.runtime.commands import compare_op
+    from scriptc.runtime.evaluate import check_of, read_of
 
     cond = parse_condition_text(f"{{CLASS #Object U ?o (?THIS>&category {op} {right})}} ! {{TRUE}}")
-    tests = cond.assignments[0].tests
+    (test,) = cond.assignments[0].tests
+    check = check_of(test)
     ctx = _context()
-    for i, value in enumerate([0.5, 1, 1.0, 2, -3, "1.0", "0.9", "abc", "abd", "s_true", True, None]):
+    expected_right = read_of(test.value).get(None, ctx)
+    for i, value in enumerate([0.5, 1, 1.0, 2, -3, -3.0, "1.0", "0.9", "-3", "abc", "abd",
+                               "s_true", True, False, None, float("inf"), float("nan")]):
         entity = ctx.world.create("Object", f"o{i}", 0)
         if value is not None:
             entity.fields["category"] = value
-        assert passes(tests, entity, ctx) == passes_slow(tests, entity, ctx), (op, right, value)
+        assert check(entity, ctx) == compare_op(op, value, expected_right), (op, right, value)
 
 
 def test_the_runtime_never_reads_the_wall_clock() -> None:

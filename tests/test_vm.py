@@ -1,6 +1,6 @@
 """The bytecode VM (`scriptc.runtime.vm`): the executor interface over verified bytecode, its
 traps, and its searches compiled and interpreted. That it agrees with the reference
-interpreter is held by tests/test_runtime_cases.py (every case through both) and
+interpreter is held by the runtime cases (tests/harness/runtime.py: every case through both) and
 tests/test_vm_differential.py (generated scripts and scenarios)."""
 
 from __future__ import annotations
@@ -73,7 +73,7 @@ SCRIPT = """[t]
 
 
 def test_the_executor_interface() -> None:
-    program = program_from_bytecode(vm_program(SCRIPT).bytecode, "t.scb")
+    program = program_from_bytecode(bytecode.verify(vm_program(SCRIPT).bytecode), "t.scb")
     assert (program.name, program.path, program.goal_ids) == ("t", "t.scb", ("first", "second"))
     assert [(m.kind, m.rulecode, m.id, m.intopic, m.action, m.mutex) for m in program.alfa] == \
         [("alfa", 16, "greeter", "\\in", "A", "U")]
@@ -294,7 +294,7 @@ def test_the_vm_never_crashes_on_a_verified_program() -> None:
                  ROOT / "tests" / "cases" / "bytecode" / "conditions.script",
                  ROOT / "tests" / "cases" / "runtime" / "scopes.script"):
         analysis = analyze_bytes(path.name, path.read_bytes(), "script")
-        samples.append(bytecode.load(emit(analysis.script, "bytecode", analysis.source)))
+        samples.append(bytecode.load(emit(analysis.script, "bytecode", analysis.source)).program)
     scenario = scenario_from_data(FUZZ_WORLD)
     ran = []
 
@@ -303,10 +303,10 @@ def test_the_vm_never_crashes_on_a_verified_program() -> None:
     @given(_mutants(lambda draw: draw(st.sampled_from(samples))))
     def run(program) -> None:
         try:
-            bytecode.verify(program)
+            verified = bytecode.verify(program)
         except bytecode.InvalidError:
             return
-        result = Session([program_from_bytecode(program, "fuzz.scb")], scenario=scenario,
+        result = Session([program_from_bytecode(verified, "fuzz.scb")], scenario=scenario,
                          trace=Trace()).run(6000)
         assert result.outcome in ("completed", "until", "stalled", "error")
         ran.append(result.outcome)
@@ -316,3 +316,42 @@ def test_the_vm_never_crashes_on_a_verified_program() -> None:
 
     run()
     assert len(ran) >= 30, f"only {len(ran)} mutants verified"
+
+
+def test_the_vm_runs_verified_programs_only() -> None:
+    """A runtime gets programs only through verification: the VM refuses a bytecode Program
+    that did not go through `bytecode.verify`, and only the verifier makes a `Verified`."""
+    program = vm_program(SCRIPT).bytecode
+    with pytest.raises(TypeError, match="verified"):
+        VMProgram(program, "t.scb")
+    with pytest.raises(TypeError, match="bytecode.verify"):
+        bytecode.Verified(program, [])
+    verified = bytecode.verify(program)
+    assert verified.program is program
+    # The verifier hands over the instructions it decoded, block by block, in code order.
+    assert [[ins.offset for ins in block] for block in verified.instructions][0][0] == 0
+    assert len(verified.instructions) == len(program.blocks)
+    assert all(ins.end == ins.offset + ins.opcode.size
+               for block in verified.instructions for ins in block)
+
+
+def test_run_verifies_codegen_s_program_without_bytes(monkeypatch) -> None:
+    """`scriptc run` of a script: codegen's program is verified in memory and run, never
+    encoded to bytes and decoded back."""
+    import importlib
+
+    from scriptc.ops.programs import checked_program
+
+    analysis = analyze_bytes("t.script", SCRIPT.encode("utf-8"), "script")
+
+    def never(*args, **kwargs):
+        raise AssertionError("the program went through bytes")
+
+    # What `load` decodes with, and what `emit_bytecode` encodes with.
+    monkeypatch.setattr(importlib.import_module("scriptc.bytecode.verify"), "decode", never)
+    monkeypatch.setattr(importlib.import_module("scriptc.emit.codegen"), "encode", never)
+    program = checked_program(analysis, "t.script")
+    assert isinstance(program, VMProgram) and program.name == "t"
+    trace = Trace()
+    assert Session([program], trace=trace).run(5000).outcome == "completed"
+    assert '"jump"' in trace.text()

@@ -16,13 +16,13 @@ __all__ = ["Instruction", "read_instruction", "instructions", "Assembler", "Labe
 
 
 class Instruction(NamedTuple):
+    """One instruction of a code section: where it starts, its opcode, its operands as stored
+    (integers, in table order), and where the next one starts."""
+
     offset: int
     opcode: Opcode
     operands: tuple[int, ...]
-
-    @property
-    def end(self) -> int:
-        return self.offset + self.opcode.size
+    end: int
 
 
 def read_instruction(code: bytes, offset: int, end: int | None = None) -> Instruction:
@@ -36,7 +36,7 @@ def read_instruction(code: bytes, offset: int, end: int | None = None) -> Instru
     if offset + op.size > end:
         raise InvalidError(f"{op.name} needs {op.size} bytes but its block ends after "
                            f"{end - offset}", offset)
-    return Instruction(offset, op, op.struct.unpack_from(code, offset + 1))
+    return Instruction(offset, op, op.struct.unpack_from(code, offset + 1), offset + op.size)
 
 
 def instructions(code: bytes, start: int = 0, end: int | None = None) -> Iterator[Instruction]:

@@ -1,5 +1,8 @@
-"""Is a well-formed program safe to run? `verify(program)` returns quietly or raises
-InvalidError; `load(data)` decodes and verifies (the only way a runtime should get a Program).
+"""Is a well-formed program safe to run? `verify(program)` returns it `Verified` or raises
+InvalidError; `load(data)` decodes and verifies. A runtime takes only a `Verified` program,
+which only `verify` makes: whether a program comes from a `.scb` file (`load`) or straight from
+codegen in memory (`verify(codegen(...))`, what `scriptc run` does with a script), it runs only
+once the checks below have passed.
 
 What a verified program guarantees a VM (docs/bytecode.md, "Verification"):
 
@@ -23,6 +26,7 @@ from __future__ import annotations
 
 import math
 
+from scriptc.bytecode.code import Instruction
 from scriptc.bytecode.decode import decode
 from scriptc.bytecode.errors import InvalidError
 from scriptc.bytecode.opcodes import (
@@ -39,7 +43,7 @@ from scriptc.bytecode.program import Num, Program
 from scriptc.gcpause import gc_paused
 from scriptc.language import MUTEXES, RULE_ACTIONS
 
-__all__ = ["verify", "load"]
+__all__ = ["Verified", "verify", "load"]
 
 _TEXT, _NUMBER = 1, 2
 _ACTIONS = "".join(RULE_ACTIONS)
@@ -59,22 +63,40 @@ _LETTERS = {name: frozenset(ord(c) for c in kind.letters)
             for name, kind in KINDS.items() if kind.letters}
 
 
-def load(data: bytes) -> Program:
-    """Decode and verify: a Program safe to run, or MalformedError / InvalidError."""
+_VERIFIER = object()  # the key only `verify` holds: see Verified
+
+
+class Verified:
+    """A program that passed `verify` (the guarantees of the module's docstring), with the
+    instructions of each block as the verifier decoded them, in code order: what a runtime
+    takes, so that it never decodes the code again. Only `verify` makes one."""
+
+    __slots__ = ("program", "instructions")
+
+    def __init__(self, program: Program, instructions: list[list[Instruction]],
+                 key: object = None) -> None:
+        if key is not _VERIFIER:
+            raise TypeError("a Verified program comes from bytecode.verify (or load)")
+        self.program = program
+        self.instructions = instructions
+
+
+def load(data: bytes) -> Verified:
+    """Decode and verify: a program safe to run, or MalformedError / InvalidError."""
     # Decoding a large program builds many small acyclic objects: the cyclic collector's
     # scans would only add time (scriptc/gcpause.py).
     with gc_paused():
-        program = decode(data)
-        verify(program)
-    return program
+        return verify(decode(data))
 
 
-def verify(program: Program) -> None:
-    """Raise InvalidError when `program` must not run (see the module's docstring)."""
+def verify(program: Program) -> Verified:
+    """The program, verified; InvalidError when it must not run (see the module's
+    docstring)."""
     kinds = _constants(program)
     _tables(program, kinds)
-    starts = _code(program, kinds)
+    starts, instructions = _code(program, kinds)
     _spans(program, starts)
+    return Verified(program, instructions, _VERIFIER)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -216,8 +238,9 @@ for _op in BY_CODE.values():
     )
 
 
-def _code(program: Program, kinds: bytearray) -> set[int]:
-    """Check every block's code; return the set of instruction offsets."""
+def _code(program: Program, kinds: bytearray) -> tuple[set[int], list[list[Instruction]]]:
+    """Check every block's code; return the set of instruction offsets and each block's
+    instructions."""
     code = program.code
     blocks = program.blocks
     n_blocks = len(blocks)
@@ -225,12 +248,13 @@ def _code(program: Program, kinds: bytearray) -> set[int]:
     starts: set[int] = set()
     add = starts.add
     decode_table = _DECODE
+    new = tuple.__new__  # Instruction(...) without the named tuple's Python-level __new__
+    listings: list[list[Instruction]] = []
     for index, block in enumerate(blocks):
         start = block.code
         end = blocks[index + 1].code if index + 1 < n_blocks else len(code)
         kind = block.kind
-        # (offset, opcode, operands, end of the instruction)
-        listing: list[tuple[int, object, tuple[int, ...], int]] = []
+        listing: list[Instruction] = []
         offset = start
         while offset < end:
             entry = decode_table[code[offset]]
@@ -276,7 +300,7 @@ def _code(program: Program, kinds: bytearray) -> set[int]:
                     raise _fault(program, index, f"{op.name}: {_show_byte(value)} is not a "
                                                  f"{kind_name} letter "
                                                  f"({KINDS[kind_name].letters})", offset)
-            listing.append((offset, op, operands, following))
+            listing.append(new(Instruction, (offset, op, operands, following)))
             add(offset)
             offset = following
         if not listing:
@@ -285,7 +309,8 @@ def _code(program: Program, kinds: bytearray) -> set[int]:
             _flow(program, index, listing)
         else:
             _shape(program, index, kind, listing)
-    return starts
+        listings.append(listing)
+    return starts, listings
 
 
 def _a(noun: str) -> str:

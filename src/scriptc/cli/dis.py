@@ -27,7 +27,7 @@ def command(ctx: click.Context, file: str) -> None:
     except ReadError as exc:
         raise CliError(str(exc)) from None
     try:
-        program = load(data)
+        program = load(data).program
     except BytecodeError as exc:
         write(f"error: {'<stdin>' if file == '-' else file}: {exc}\n", err=True)
         ctx.exit(1)

@@ -2,8 +2,8 @@
 
 A file's kind is its suffix's (`SourceKind.of_path`). `.script` and `.json` files are read
 and checked as `compile` and `check` read them, under their repository's setup (functions,
-robot profile, policy); a checked script is compiled to bytecode in memory, loaded (decoded
-and verified, as a `.scb` file is) and run by the VM, or, with the `ir` executor, read from
+robot profile, policy); a checked script is compiled to bytecode in memory, verified (as a
+`.scb` file is once decoded) and run by the VM, or, with the `ir` executor, read from
 the IR by the reference interpreter. `.scb` files are decoded and verified, then run by the
 VM. `load_programs` does this for the command line's files; `ProgramLoader` for the scripts a
 session meets by path while it runs (the runtime's `scriptc.runtime.loading.Loader`).
@@ -16,7 +16,8 @@ from typing import Any
 
 from scriptc.analysis.analyze import Analysis
 from scriptc.analysis.read import ReadError, read_bytes
-from scriptc.ops.build import emit, read_configured
+from scriptc.gcpause import gc_paused
+from scriptc.ops.build import read_configured
 from scriptc.project.setup import Setup, setup_for
 from scriptc.runtime.loading import LoadError
 from scriptc.source import SourceKind
@@ -65,29 +66,32 @@ def bytecode_program(path: str) -> Any:
         program = load(data)
     except BytecodeError as exc:
         raise Refused(f"`{path}`: {exc}") from None
-    # The VM's entry point: a runtime `Program` (executor.py) over a verified bytecode Program.
+    # The VM's entry point: a runtime program (executor.py) over a verified bytecode program.
     return vm.program_from_bytecode(program, path)
 
 
 def checked_program(analysis: Analysis, path: str, executor: str = "vm") -> Any:
-    """The runtime program of a checked script: compiled to bytecode in memory, loaded
-    (decoded and verified, as a `.scb` file is) and run by the VM; or, with the `ir`
+    """The runtime program of a checked script: compiled to bytecode in memory, verified (as
+    a `.scb` file is once decoded) and run by the VM; or, with the `ir`
     executor, read from the IR by the reference interpreter. Raises Refused when the script
     cannot be compiled to bytecode."""
     if executor == "ir":
         from scriptc.runtime.interp import IRProgram
 
         return IRProgram(analysis.script, path)
-    from scriptc.bytecode import load
-    from scriptc.emit.codegen import CodegenError
+    from scriptc.bytecode import InvalidError, verify
+    from scriptc.emit.codegen import CodegenError, codegen
     from scriptc.runtime import vm
 
+    # Codegen's program is verified as it is, in memory: the bytes of a `.scb` file would only
+    # be decoded back into the same program (tests/test_bytecode.py holds the round trip).
     try:
-        data = emit(analysis.script, "bytecode", analysis.source)
-    except CodegenError as exc:  # only for what the checks let through (none known)
+        with gc_paused():
+            verified = verify(codegen(analysis.script, analysis.source))
+    except (CodegenError, InvalidError) as exc:  # only for what the checks let through
         raise Refused(f"`{path}` cannot be compiled to bytecode: {exc} (`--executor ir` "
                       "runs it)") from None
-    return vm.program_from_bytecode(load(data), path)
+    return vm.program_from_bytecode(verified, path)
 
 
 class Loaded:

@@ -1,6 +1,6 @@
 """The actuators: an instruction block's three timed tracks, what the robot's wheels, LEDs
 and speaker are doing, and the operator's joystick (thesis 3.1, 5.3; docs/runtime.md). Shared by
-every executor: an executor hands over an `Instruction`, the actuators do the rest.
+every executor: an executor hands over a `BlockCommands`, the actuators do the rest.
 
 Track timing (exact to the millisecond): the three tracks (`move`, `led`, `audioout`) start
 together when the block is issued. On each track a command waits `wait_t` ms (from the end of
@@ -33,7 +33,7 @@ from __future__ import annotations
 
 from scriptc.runtime.clock import PRIO_OPERATOR_TIMER, PRIO_TRACK, EventQueue
 from scriptc.runtime.trace import Trace
-from scriptc.runtime.commands import SILENCE, TRACKS, Audio, Instruction, Led, Move
+from scriptc.runtime.commands import SILENCE, TRACKS, Audio, BlockCommands, Led, Move
 from scriptc.runtime.world import World
 
 ZERO = (0.0, 0.0, 0.0)
@@ -84,7 +84,7 @@ class Actuators:
 
     # -- blocks -----------------------------------------------------------------------------
 
-    def issue(self, now: int, instruction: Instruction) -> None:
+    def issue(self, now: int, instruction: BlockCommands) -> None:
         """Start a block from its beginning (cancelling the one running, if any)."""
         if self.block_active and not self.consumed:
             self.cancel(now)

@@ -83,8 +83,9 @@ TRACKS = ("move", "led", "audioout")
 
 
 @dataclass(frozen=True, slots=True)
-class Instruction:
-    """An instruction block as the actuators receive it: three tracks of timed commands."""
+class BlockCommands:
+    """The commands of an instruction block as the actuators receive them: three tracks of
+    timed commands."""
 
     moves: tuple[Move, ...] = ()
     leds: tuple[Led, ...] = ()
@@ -120,13 +121,6 @@ class RuleMessage:
 # alias). A missing value never satisfies a test or a comparison.
 
 Value = Union[str, float, int, None]
-
-
-def is_number(value: Value) -> bool:
-    """True for a number, or a text that reads as one (the language's number syntax)."""
-    if isinstance(value, str):
-        return NUMBER_RE.fullmatch(value.strip()) is not None
-    return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
 def as_number(value: Value) -> float | None:

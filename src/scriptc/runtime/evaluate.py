@@ -1,17 +1,23 @@
-"""Evaluating rule-grammar conditions against the map (docs/rules.md, thesis 4.3).
+"""Evaluating rule-grammar conditions against the map (docs/rules.md, thesis 4.3): the one
+semantics of conditions, whatever executor reads the script.
 
-Two layers:
+Three layers:
 
 - `EvalContext`: the primitives any evaluator needs, whatever form the condition has
-  (the IR here, bytecode in a VM): the three assignments (`assign_class` with the tests as a
-  predicate: stable bindings, one alias per entity, oldest candidate first; `assign_var`;
+  (the IR here, bytecode in the VM): the three assignments (`assign_class` with the tests as
+  checks: stable bindings, one alias per entity, oldest candidate first; `assign_var`;
   `assign_att`), reading aliases, fields, VARs and ATTs, calling B/F/E functions through the
-  implementations table (`call`), comparing values (`compare`: numeric when both sides are
-  numbers, else text), and the bindings one evaluation made (`result`, for the trace). A
-  bytecode VM calls these and nothing else.
-- `evaluate(condition, ctx)`: the condition as IR, evaluated with those primitives. The block
-  reader of `interp.py` uses it for jumps; the rule chain uses it for every rule's condition
-  (rules are shared, whatever executor reads the script).
+  implementations table (`call`), and the bindings one evaluation made (`result`, for the
+  trace).
+- The parts of a condition, as closures over (`?THIS`, ctx): what reading a value means (a
+  `Read`: `constant`, `variable`, `alias_id`, `field_of`, `attribute`, `this_id`,
+  `this_field`), what a call means (`invoke`, `call`) and what a comparison means (`compare_op`
+  of runtime/commands.py, and `comparison`, with the one fast path of `?THIS>&f OP number`).
+  The VM (vm.py) builds its steps and its searches' checks from these, so the two executors
+  cannot mean different things.
+- `evaluate(condition, ctx)`: the condition as IR, compiled once to those parts
+  (`compile_condition`). The block reader of `interp.py` uses it for jumps; the rule chain
+  uses it for every rule's condition (rules are shared, whatever executor reads the script).
 
 Meaning, in order:
 1. `{TRUE}` alone is true.
@@ -31,8 +37,9 @@ from __future__ import annotations
 
 import math
 import operator
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 from scriptc.ir import nodes as ir
 from scriptc.runtime.bindings import Bindings
@@ -101,25 +108,39 @@ class EvalContext:
     def field(self, entity: Entity | None, name: str) -> Value:
         return None if entity is None else entity.fields.get(name)
 
-    def assign_class(self, alias: str, cls: str, scope: str,
-                     passes: Callable[[Entity], bool]) -> bool:
-        """A CLASS assignment, whatever form its tests have (`passes(entity)` runs them with
-        the entity as `?THIS`): keep the entity the alias names while it passes (a stable
-        identity), else release the alias and bind the oldest free candidate that passes.
-        False when none does. The one place these rules live: evaluators call it."""
+    def assign_class(self, alias: str, cls: str, scope: str, tests: Sequence[Check]) -> bool:
+        """A CLASS assignment, whatever form its tests have (`test(entity, ctx)` runs one with
+        the entity as `?THIS`): keep the entity the alias names while it passes every test (a
+        stable identity), else release the alias and bind the oldest free candidate that
+        passes them all. False when none does. The one place these rules live: evaluators
+        call it."""
         current = self.bindings.lookup(alias)
         if current is not None:
-            if current.cls == cls and passes(current):
+            if current.cls == cls and all(test(current, self) for test in tests):
                 self.bind(alias, current, scope)
                 return True
             self.bindings.unbind(alias)
         holder = self.bindings.holder
-        for entity in self.world.candidates(cls):
-            # An entity holding another alias is not a candidate (one alias per entity).
+        candidates = self.world.candidates(cls)
+        # Each candidate runs the tests (1,000 entities must cost well under a millisecond):
+        # one test, the common case, is called directly. An entity holding another alias is
+        # not a candidate (one alias per entity).
+        if len(tests) == 1:
+            (test,) = tests
+            for entity in candidates:
+                held = holder.get(id(entity))
+                if (held is None or held == alias) and test(entity, self):
+                    self.bind(alias, entity, scope)
+                    return True
+            return False
+        for entity in candidates:
             held = holder.get(id(entity))
             if held is not None and held != alias:
                 continue
-            if passes(entity):
+            for test in tests:
+                if not test(entity, self):
+                    break
+            else:
                 self.bind(alias, entity, scope)
                 return True
         return False
@@ -168,155 +189,224 @@ class EvalContext:
                 self.on_error(str(exc))
             return None if kind == "F" else False
 
-    @staticmethod
-    def compare(op: str, a: Value, b: Value) -> bool:
-        return compare_op(op, a, b)
-
     def result(self, value: bool) -> Evaluation:
         return Evaluation(value, self.made)
 
 
 # ---------------------------------------------------------------------------------------------
-# The IR evaluator
+# The parts of a condition, as closures: THE meaning of reading a value, calling a function
+# and comparing two values. Both executors build their conditions from these (the IR below,
+# `compile_condition`; the VM from its instructions, vm.py), so a comparison or a call means
+# one thing whatever form the script has.
+#
+# A part runs as `get(this, ctx)`: `this` is the candidate of a CLASS assignment's tests
+# (`?THIS`), None elsewhere.
+
+Getter = Callable[["Entity | None", EvalContext], Value]
+Check = Callable[["Entity | None", EvalContext], bool]
+
+
+class Read(NamedTuple):
+    """A value of a condition: `get(this, ctx)` reads it. `this_field` names the field when it
+    reads a field of `?THIS`, `constant` holds the number when it is a finite number constant:
+    what the fast comparison (`comparison`) needs to know."""
+
+    get: Getter
+    this_field: str | None = None
+    constant: float | None = None
+
+
+def constant(value: Value) -> Read:
+    """A constant: a number's value or a text."""
+    number = value if type(value) is float and math.isfinite(value) else None
+    return Read(lambda this, ctx: value, constant=number)
+
+
+def variable(name: str) -> Read:
+    """A VAR's value (missing if never assigned)."""
+    return Read(lambda this, ctx: ctx.var(name))
+
+
+def alias_id(alias: str) -> Read:
+    """The id of the entity bound to `alias` (missing if not bound)."""
+
+    def get(this: Entity | None, ctx: EvalContext) -> Value:
+        entity = ctx.lookup(alias)
+        return None if entity is None else entity.id
+
+    return Read(get)
+
+
+def this_id() -> Read:
+    """The id of the candidate (`?THIS`)."""
+    return Read(lambda this, ctx: None if this is None else this.id)
+
+
+def field_of(alias: str, name: str) -> Read:
+    """A field of the entity bound to `alias` (missing if unbound or not set)."""
+    return Read(lambda this, ctx: ctx.field(ctx.lookup(alias), name))
+
+
+def this_field(name: str) -> Read:
+    """A field of the candidate (`?THIS>&name`; missing if not set)."""
+    return Read(lambda this, ctx: None if this is None else this.fields.get(name),
+                this_field=name)
+
+
+def attribute(alias: str, name: str) -> Read:
+    """An attribute of `alias` (missing if never assigned)."""
+    return Read(lambda this, ctx: ctx.att(alias, name))
+
+
+def invoke(ctx: EvalContext, name: str, kind: str, args: list[Value],
+           this: Entity | None) -> Value:
+    """A call of a function of `kind` with argument values: an F function's text (None: no
+    value), a B or E function's truth value. A function that fails counts as false or no
+    value (`EvalContext.call` reports it)."""
+    result = ctx.call(name, kind, args, this)
+    return result if kind == "F" else bool(result)
+
+
+def call(name: str, kind: str, args: Sequence[Read]) -> Read:
+    """A call (`invoke`) whose arguments are read left to right."""
+    getters = tuple(a.get for a in args)
+    if not getters:
+        return Read(lambda this, ctx: invoke(ctx, name, kind, [], this))
+    if len(getters) == 1:
+        (only,) = getters
+        return Read(lambda this, ctx: invoke(ctx, name, kind, [only(this, ctx)], this))
+    return Read(lambda this, ctx: invoke(ctx, name, kind, [g(this, ctx) for g in getters],
+                                         this))
+
+
+_FAST_OPS = {"OP<": operator.lt, "OP>": operator.gt, "OP=": operator.eq}
+
+
+def comparison(op: str, left: Read, right: Read) -> Read:
+    """Whether `left OPop right` holds (`compare_op`: as numbers when both are numbers, else as
+    texts; false when either is missing). `?THIS>&field OP number`, the common test, runs once
+    per candidate entity (1,000 entities must cost well under a millisecond): a finite numeric
+    field is compared with the number directly, which is what `compare_op` does for two
+    numbers (an infinity or NaN is no number to it: it compares their texts)."""
+    if left.this_field is not None and right.constant is not None and op in _FAST_OPS:
+        fast, name, number = _FAST_OPS[op], left.this_field, right.constant
+
+        def check(this: Entity, ctx: EvalContext) -> bool:  # a test: `this` is a candidate
+            v = this.fields.get(name)
+            kind = type(v)
+            if kind is float:
+                if v - v == 0:  # finite: compared as numbers
+                    return fast(v, number)
+            elif kind is int:
+                return fast(v, number)
+            return v is not None and compare_op(op, v, number)
+
+        return Read(check)
+    lget, rget = left.get, right.get
+    return Read(lambda this, ctx: compare_op(op, lget(this, ctx), rget(this, ctx)))
+
+
+# ---------------------------------------------------------------------------------------------
+# Conditions in the IR, compiled to those parts
 
 
 def _bare(text: str, sigil: str) -> str:
     return text[1:] if text.startswith(sigil) else text
 
 
-def value_of(value: ir.Value, ctx: EvalContext, this: Entity | None) -> Value:
+def read_of(value: ir.Value) -> Read:
     """An argument or the right side of a test."""
     if isinstance(value, ir.NumberValue):
-        return value.number.value
+        return constant(value.number.value)
     if isinstance(value, ir.StringValue):
-        return value.text.value
+        return constant(value.text.value)
     if isinstance(value, ir.FieldRef):
-        entity = this if value.alias.is_this else ctx.lookup(value.alias.name.text)
-        return ctx.field(entity, _bare(value.field.text, "&"))
+        name = _bare(value.field.text, "&")
+        return this_field(name) if value.alias.is_this else field_of(value.alias.name.text, name)
     if isinstance(value, ir.AliasRef):
-        entity = this if value.is_this else ctx.lookup(value.name.text)
-        return None if entity is None else entity.id
+        return this_id() if value.is_this else alias_id(value.name.text)
     if isinstance(value, ir.VarRef):
-        return ctx.var(value.name.text)
+        return variable(value.name.text)
     if isinstance(value, ir.AttRef):
-        return ctx.att(value.alias.name.text, _bare(value.att.text, "$"))
+        return attribute(value.alias.name.text, _bare(value.att.text, "$"))
     raise TypeError(f"not a value: {value!r}")
 
 
-def _call(call: ir.Call, ctx: EvalContext, this: Entity | None):
-    args = [value_of(a, ctx, this) for a in call.args]
-    return ctx.call(call.name.text, call.kind, args, this)
+def _call_of(node: ir.Call) -> Read:
+    return call(node.name.text, node.kind, [read_of(a) for a in node.args])
 
 
-_FAST_OPS = {"OP<": operator.lt, "OP>": operator.gt, "OP=": operator.eq}
-
-# Compiled tests of CLASS assignments, by the identity of the IR tuple (kept alive here, so an
-# id is never reused while its entry exists). A test runs once per candidate entity, so this
-# is the evaluator's inner loop: 1,000 entities must cost well under a millisecond.
-_COMPILED: dict[int, tuple[tuple, tuple]] = {}
-
-
-def _compile_test(test: ir.Test):
-    """A test as `check(entity, ctx) -> bool`, with the same meaning as spelled out in
-    `passes_slow`: a number constant on the right is read once, and a numeric field is
-    compared without going through `compare_op`."""
+def check_of(test: ir.Test) -> Check:
+    """A test of a CLASS assignment as a check over (`?THIS`, ctx)."""
     if isinstance(test, ir.CallTest):
-        call = test.call
-        return lambda entity, ctx: bool(_call(call, ctx, entity))
-    name = _bare(test.field.text, "&")
-    op = test.op.text
-    value = test.value
-    constant = value.number.value if isinstance(value, ir.NumberValue) else None
-    if constant is not None and math.isfinite(constant) and op in _FAST_OPS:
-        fast = _FAST_OPS[op]
-
-        def check(entity: Entity, ctx: EvalContext) -> bool:
-            v = entity.fields.get(name)
-            kind = type(v)
-            if kind is float or kind is int:
-                return fast(v, constant)
-            return v is not None and compare_op(op, v, constant)
-
-        return check
-
-    def check_general(entity: Entity, ctx: EvalContext) -> bool:
-        v = entity.fields.get(name)
-        return v is not None and compare_op(op, v, value_of(value, ctx, entity))
-
-    return check_general
+        return _call_of(test.call).get
+    return comparison(test.op.text, this_field(_bare(test.field.text, "&")),
+                      read_of(test.value)).get
 
 
-def compiled_tests(tests: tuple[ir.Test, ...]) -> tuple:
-    entry = _COMPILED.get(id(tests))
-    if entry is None or entry[0] is not tests:
-        entry = _COMPILED[id(tests)] = (tests, tuple(_compile_test(t) for t in tests))
-    return entry[1]
+Step = Callable[[EvalContext], bool]
 
 
-def passes(tests: tuple[ir.Test, ...], entity: Entity, ctx: EvalContext) -> bool:
-    """True when `entity` (as `?THIS`) passes every test of a CLASS assignment."""
-    for check in compiled_tests(tests):
-        if not check(entity, ctx):
-            return False
-    return True
-
-
-def passes_slow(tests: tuple[ir.Test, ...], entity: Entity, ctx: EvalContext) -> bool:
-    """`passes`, written plainly (the meaning; tests hold the two equal)."""
-    for test in tests:
-        if isinstance(test, ir.FieldTest):
-            left = entity.fields.get(_bare(test.field.text, "&"))
-            right = value_of(test.value, ctx, entity)
-            if left is None or not compare_op(test.op.text, left, right):
-                return False
-        elif not _call(test.call, ctx, entity):
-            return False
-    return True
-
-
-def _assign_class(asg: ir.ClassAssignment, ctx: EvalContext) -> bool:
-    checks = compiled_tests(asg.tests)
-    if len(checks) == 1:
-        check = checks[0]
-
-        def passes_all(entity: Entity) -> bool:
-            return check(entity, ctx)
-    else:
-        def passes_all(entity: Entity) -> bool:
-            for check in checks:
-                if not check(entity, ctx):
-                    return False
-            return True
-
-    return ctx.assign_class(asg.alias.name.text, _bare(asg.class_name.text, "#"),
-                            asg.scope.text, passes_all)
-
-
-def _assign(asg: ir.Assignment, ctx: EvalContext) -> bool:
+def _assignment(asg: ir.Assignment) -> Step:
     if isinstance(asg, ir.ClassAssignment):
-        return _assign_class(asg, ctx)
+        checks = tuple(check_of(t) for t in asg.tests)
+        alias, cls, scope = asg.alias.name.text, _bare(asg.class_name.text, "#"), asg.scope.text
+        return lambda ctx: ctx.assign_class(alias, cls, scope, checks)
+    get = _call_of(asg.call).get
+    scope = asg.scope.text
     if isinstance(asg, ir.VarAssignment):
-        return ctx.assign_var(asg.var.name.text, _call(asg.call, ctx, None), asg.scope.text)
+        name = asg.var.name.text
+        return lambda ctx: ctx.assign_var(name, get(None, ctx), scope)
     if isinstance(asg, ir.AttAssignment):
-        alias = asg.alias.name.text
-        if ctx.lookup(alias) is None:
-            return False  # the F function is not called for an unbound alias
-        return ctx.assign_att(alias, _bare(asg.att.text, "$"), _call(asg.call, ctx, None),
-                              asg.scope.text)
+        alias, att = asg.alias.name.text, _bare(asg.att.text, "$")
+        # The F function is not called for an unbound alias.
+        return lambda ctx: (ctx.lookup(alias) is not None
+                            and ctx.assign_att(alias, att, get(None, ctx), scope))
     raise TypeError(f"not an assignment: {asg!r}")
+
+
+def compile_condition(condition: ir.Condition) -> Step:
+    """The condition as one function of the context: its value (see the module's docstring;
+    the bindings it made are the context's)."""
+    if condition.bare_true:
+        return lambda ctx: True
+    steps = [_assignment(a) for a in condition.assignments]
+    for ev in condition.evaluations:
+        if isinstance(ev, ir.TrueEvaluation):
+            break  # true at once: what follows is never evaluated
+        get = _call_of(ev.call).get
+        steps.append(lambda ctx, get=get: get(None, ctx))
+    if len(steps) == 1:
+        return steps[0]
+
+    def run(ctx: EvalContext) -> bool:
+        for step in steps:
+            if not step(ctx):
+                return False
+        return True
+
+    return run
+
+
+# Compiled conditions by the identity of the IR node (kept alive here, so an id is never
+# reused while its entry exists): the rule chain evaluates the same conditions again and again.
+_COMPILED: dict[int, tuple[ir.Condition, Step]] = {}
+_MAX_COMPILED = 10_000
+
+
+def compiled(condition: ir.Condition) -> Step:
+    """`compile_condition`, once per condition."""
+    entry = _COMPILED.get(id(condition))
+    if entry is None or entry[0] is not condition:
+        if len(_COMPILED) >= _MAX_COMPILED:
+            _COMPILED.clear()
+        entry = _COMPILED[id(condition)] = (condition, compile_condition(condition))
+    return entry[1]
 
 
 def evaluate(condition: ir.Condition, ctx: EvalContext) -> Evaluation:
     """The value of a condition (see the module's docstring). Call `ctx.begin(owner, now)`
     first."""
-    if condition.bare_true:
-        return ctx.result(True)
-    for asg in condition.assignments:
-        if not _assign(asg, ctx):
-            return ctx.result(False)
-    for ev in condition.evaluations:
-        if isinstance(ev, ir.TrueEvaluation):
-            return ctx.result(True)
-        if not _call(ev.call, ctx, None):
-            return ctx.result(False)
-    return ctx.result(True)
+    entry = _COMPILED.get(id(condition))  # `compiled`, inline: rules evaluate at every pass
+    run = entry[1] if entry is not None and entry[0] is condition else compiled(condition)
+    return Evaluation(run(ctx), ctx.made)

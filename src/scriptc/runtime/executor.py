@@ -34,7 +34,7 @@ from dataclasses import dataclass
 from typing import Protocol, Union
 
 from scriptc.runtime.evaluate import EvalContext, Evaluation
-from scriptc.runtime.commands import Instruction, Position, RuleMessage
+from scriptc.runtime.commands import BlockCommands, Position, RuleMessage
 
 
 @dataclass(frozen=True, slots=True)
@@ -42,7 +42,7 @@ class Issue:
     """An instruction block to issue to the actuators."""
 
     position: Position
-    instruction: Instruction
+    instruction: BlockCommands
     label: str = ""
 
 
@@ -111,7 +111,7 @@ class ExecutorBase:
         return i
 
 
-class Program(Protocol):
+class Loadable(Protocol):
     """A loadable script: its name, where it came from, and a fresh executor per load."""
 
     name: str

@@ -3,7 +3,7 @@ straight from the IR. It is the executable spec of the block reader, kept simple
 a flat list of blocks in execution order (goal by goal, action by action, block by block), a
 label table, and one loop.
 
-- an instruction block is returned as plain values (`Instruction`) and reading stops;
+- an instruction block is returned as plain values (`BlockCommands`) and reading stops;
 - a jump evaluates its condition with the shared evaluator (`evaluate.py`) and goes to its
   true or false target; an empty target is the next block in order (docs/language.md); a label
   carried by several blocks names the first of them (as the checker reads it, L001);
@@ -22,7 +22,7 @@ from scriptc.ir import nodes as ir
 from scriptc.runtime.bindings import READER
 from scriptc.runtime.evaluate import EvalContext, evaluate
 from scriptc.runtime.executor import End, ExecutorBase, Issue, ReadLimit, ReadResult, ReadSink
-from scriptc.runtime.commands import Audio, Instruction, Led, Move, Position, RuleMessage
+from scriptc.runtime.commands import Audio, BlockCommands, Led, Move, Position, RuleMessage
 
 MAX_BLOCKS_PER_READ = 100_000
 
@@ -45,9 +45,9 @@ def _ms(number: ir.Number) -> int:
     return int(round(value))
 
 
-def instruction_of(block: ir.InstructionBlock) -> Instruction:
+def instruction_of(block: ir.InstructionBlock) -> BlockCommands:
     """An instruction block's commands as plain run-time values."""
-    return Instruction(
+    return BlockCommands(
         tuple(Move(_float(m.v_x), _float(m.v_y), _float(m.v_theta), _ms(m.wait_t), _ms(m.duration))
               for m in block.moves),
         tuple(Led(_float(c.r), _float(c.g), _float(c.b), 1 if _float(c.turnas) == 1 else 0,
@@ -78,7 +78,7 @@ class IRProgram:
         self.goal_ids = tuple(g.id.text for g in script.goals)
         self.labels: dict[str, int] = {}
         self.index: dict[tuple[int, int, int], int] = {}
-        self.instructions: dict[int, Instruction] = {}
+        self.instructions: dict[int, BlockCommands] = {}
         self.conditions: dict[int, str] = {}
         for i, (address, block) in enumerate(self.blocks):
             self.index[address] = i

@@ -10,7 +10,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Protocol
 
 if TYPE_CHECKING:
-    from scriptc.runtime.executor import Program
+    from scriptc.runtime.executor import Loadable
 
 __all__ = ["LoadError", "Loader"]
 
@@ -23,4 +23,4 @@ class LoadError(Exception):
 class Loader(Protocol):
     """Loads the program of a script file by its absolute path, or raises LoadError."""
 
-    def __call__(self, path: str) -> Program: ...
+    def __call__(self, path: str) -> Loadable: ...

@@ -47,7 +47,7 @@ from typing import Any, Protocol
 from scriptc.ir import nodes as ir
 from scriptc.numbers import whole_number
 from scriptc.runtime.bindings import Bindings
-from scriptc.runtime.commands import Instruction, RuleMessage
+from scriptc.runtime.commands import BlockCommands, RuleMessage
 from scriptc.runtime.world import OverrideRequest, World
 
 
@@ -152,11 +152,11 @@ class RuleContext:
         return self.host.bindings
 
     @property
-    def block(self) -> Instruction | None:
+    def block(self) -> BlockCommands | None:
         """The instruction block in the map's script info (running or about to be issued)."""
         return self.host.world.script.block
 
-    def replace_block(self, instruction: Instruction) -> None:
+    def replace_block(self, instruction: BlockCommands) -> None:
         """Change the block: it is marked `changed` and the actuators restart it."""
         info = self.host.world.script
         info.block = instruction

@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 from scriptc.runtime.actuators import Actuators
 from scriptc.runtime.bindings import Bindings
 from scriptc.runtime.evaluate import EvalContext
-from scriptc.runtime.executor import End, Executor, Issue, Program, ReadLimit
+from scriptc.runtime.executor import End, Executor, Issue, Loadable, ReadLimit
 from scriptc.runtime.goals import Goals
 from scriptc.runtime.loading import Loader
 from scriptc.runtime.mutex import Mutex
@@ -62,7 +62,7 @@ class Catalogue:
     __slots__ = ("programs", "folder", "loader")
 
     def __init__(self, programs, folder: str | None = None, loader: Loader | None = None) -> None:
-        self.programs: dict[str, Program] = {}
+        self.programs: dict[str, Loadable] = {}
         for program in programs:
             self.programs.setdefault(program.name, program)
             if program.path:
@@ -70,7 +70,7 @@ class Catalogue:
         self.folder = folder
         self.loader = loader
 
-    def find(self, name: str) -> Program | None:
+    def find(self, name: str) -> Loadable | None:
         """A program by activity name, by path, or loaded by path through the loader (which
         may raise `loading.LoadError`); None when none is found and there is no loader."""
         program = self.programs.get(name)
@@ -99,11 +99,11 @@ class Scripts:
                  "executor", "program", "loads", "need_read", "pending_issue", "issued_path",
                  "issued_label")
 
-    def __init__(self, programs, idle: Program, catalogue: Catalogue, *, stop_when_done: bool,
+    def __init__(self, programs, idle: Loadable, catalogue: Catalogue, *, stop_when_done: bool,
                  world: World, trace: Trace, status: RunStatus, goals: Goals, sink: ReaderSink,
                  mutex: Mutex, bindings: Bindings, actuators: Actuators, ctx: EvalContext,
                  max_loops: int) -> None:
-        self.lifo: list[Program] = list(reversed(programs))  # the top is the last
+        self.lifo: list[Loadable] = list(reversed(programs))  # the top is the last
         self.idle = idle
         self.catalogue = catalogue
         self.stop_when_done = stop_when_done
@@ -118,18 +118,18 @@ class Scripts:
         self.ctx = ctx
         self.max_loops = max_loops
         self.executor: Executor | None = None
-        self.program: Program | None = None
+        self.program: Loadable | None = None
         self.loads: list[LoadRecord] = []
         self.need_read = False
         self.pending_issue = False
         self.issued_path = ""
         self.issued_label = ""
 
-    def find(self, name: str) -> Program | None:
+    def find(self, name: str) -> Loadable | None:
         """A program an override or `script_vect` names (see `Catalogue.find`)."""
         return self.catalogue.find(name)
 
-    def queue(self, programs: list[Program]) -> None:
+    def queue(self, programs: list[Loadable]) -> None:
         """The LIFO becomes `programs`, in the order they will run."""
         self.lifo = list(reversed(programs))
 
@@ -144,7 +144,7 @@ class Scripts:
         else:
             self.load(now, self.idle, "idle")
 
-    def load(self, now: int, program: Program, reason: str) -> None:
+    def load(self, now: int, program: Loadable, reason: str) -> None:
         executor = program.executor()
         executor.start()
         self.executor = executor

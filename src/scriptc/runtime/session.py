@@ -1,6 +1,6 @@
 """The session: the wiring of the runtime's jobs into one run of queued scripts in simulated
 time (thesis 4.2; docs/runtime.md). Shared by every executor: it drives whatever `Executor` a
-`Program` makes.
+`Loadable` makes.
 
 Each job has its module and a narrow interface; the session builds them over one map
 (`World`), one set of bindings, one event queue, one trace and one robot, and hands each the
@@ -27,7 +27,7 @@ from scriptc.runtime.actuators import Actuators
 from scriptc.runtime.bindings import Bindings
 from scriptc.runtime.clock import EventQueue
 from scriptc.runtime.evaluate import EvalContext
-from scriptc.runtime.executor import Program
+from scriptc.runtime.executor import Loadable
 from scriptc.runtime.functions import STANDARD_IMPLEMENTATIONS, Implementations
 from scriptc.runtime.goals import Goals
 from scriptc.runtime.loading import LoadError, Loader
@@ -53,16 +53,16 @@ class Session:
 
     `programs` run in the order given (the LIFO holds them top first). `catalogue` adds
     programs that may be named by an override or a `script_vect` update without being
-    queued; `loader(path) -> Program` loads others by path (raising LoadError:
+    queued; `loader(path) -> Loadable` loads others by path (raising LoadError:
     `scriptc.runtime.loading`). `idle` replaces
     the built-in `idle_activity`."""
 
-    def __init__(self, programs: list[Program] | tuple[Program, ...] = (), *,
+    def __init__(self, programs: list[Loadable] | tuple[Loadable, ...] = (), *,
                  scenario: Scenario | None = None, robot: str | Robot = "kinematic",
                  functions: Implementations = STANDARD_IMPLEMENTATIONS,
                  rules: RuleLibrary = STANDARD_RULES, trace: Trace | None = None,
-                 idle: Program | None = None, stop_when_done: bool = True,
-                 catalogue: list[Program] | tuple[Program, ...] = (),
+                 idle: Loadable | None = None, stop_when_done: bool = True,
+                 catalogue: list[Loadable] | tuple[Loadable, ...] = (),
                  loader: Loader | None = None,
                  max_loops_per_instant: int = MAX_LOOPS_PER_INSTANT,
                  profile=None) -> None:

@@ -1,22 +1,29 @@
 """The bytecode VM: an executor (`executor.py`) that runs a verified `.scb` program
 (docs/bytecode.md, "Running a program"). It is the executor `scriptc run` uses; the reference
 interpreter over the IR (`interp.py`) is the executable spec it must agree with, trace for
-trace (tests/test_runtime_cases.py runs every case through both; tests/test_vm_differential.py
+trace (tests/harness/runtime.py runs every case through both; tests/test_vm_differential.py
 runs generated scripts and scenarios through both).
 
-It knows nothing of the IR and never parses: its input is a `scriptc.bytecode.Program` that
-`scriptc.bytecode.load` (decode + verify) returned, and its only partners are the runtime's
-shared modules: the session through the `ReadSink`, the map through `EvalContext`'s primitives.
+It knows nothing of the IR and never parses: its input is a `scriptc.bytecode.Verified`
+program, which only the verifier makes (`bytecode.verify` of codegen's program in memory, or
+`bytecode.load` of a file's bytes), and its only partners are the runtime's shared modules: the
+session through the `ReadSink`, the map through `EvalContext`'s primitives, and the parts of
+conditions of `evaluate.py` (what reading a value, calling a function and comparing mean).
 
 How it runs (the registers of docs/bytecode.md):
 
-- **Loading** decodes each block's code once into a list of instructions whose operands are
-  resolved (names and texts to str, numbers to their values, jump offsets to indices in the
-  block's list). The verifier has already proved what the loop below relies on: operands in
-  range, jumps inside the block, a stack that never underflows and holds truth values where
-  they are popped, searches well formed, exits with an empty stack.
-- **The block reader** has two registers, the block and `pc` (an index in the block's list).
-  `read` arrives at a block (the session's `visit`), runs its instructions until one transfers
+- **Loading** turns each block's instructions, as the verifier decoded them, into steps. The
+  operands are read by their kinds in the opcode table (one decoder for all opcodes: texts and
+  names to str, constants to their values, letters to str, jump offsets to indices in the
+  block's steps); each opcode then says what its step does: a value push becomes the `Read` of
+  `evaluate.py` for that value, a call or a comparison the same `invoke` and `compare_op` the
+  IR's conditions use. The commands of an instruction block and the payload of a sensor block
+  are constants: they are gathered at load, and reading such a block starts at its `ISSUE` or
+  `SENSE`. The verifier has already proved what the loop below relies on: operands in range,
+  jumps inside the block, a stack that never underflows and holds truth values where they are
+  popped, searches well formed, exits with an empty stack.
+- **The block reader** has two registers, the block and `pc` (an index in the block's steps).
+  `read` arrives at a block (the session's `visit`), runs its steps until one transfers
   control (`GOTO`, `NEXT_BLOCK`, `END`) or stops reading (`ISSUE`: the pending block's
   commands are returned as an `Issue`; the next `read` resumes after it, at `NEXT_BLOCK`).
 - **Conditions** run on a value stack with the failure handler `COND` sets. A failing
@@ -28,11 +35,11 @@ How it runs (the registers of docs/bytecode.md):
   `EvalContext.assign_class`, which the docs allow ("a VM may also run a whole search with one
   call"): the tests between `NEXT_CANDIDATE` and `BIND` are its `passes` predicate. The tests
   run once per candidate (1,000 entities per jump must cost under a millisecond), so at load
-  each search's tests are translated once into closures over the entity (a symbolic run of
-  the stack: value pushes become getters, `COMPARE` and `CALL_B` become checks, each
-  `JUMP_IF_FALSE` back to `NEXT_CANDIDATE` closes one test). `VMProgram(...,
-  compile_searches=False)` interprets them instruction by instruction instead (the plain
-  meaning; tests hold the two equal).
+  each search's tests are turned into the checks `evaluate.py` builds for the IR's tests (a
+  symbolic run of the stack: the pushes' `Read`s become the arguments of `comparison` and
+  `call`; each `JUMP_IF_FALSE` back to `NEXT_CANDIDATE` closes one test).
+  `VMProgram(..., compile_searches=False)` runs them step by step instead, with the candidate
+  as `?THIS` (tests hold the two equal).
 - **Traps.** A verified program cannot make the VM misbehave, but a run can still go wrong
   in a way the script is to blame for at run time. Function failures are the context's
   (reported, the call counts as false / missing: docs/bytecode.md). Anything else that goes
@@ -43,39 +50,44 @@ How it runs (the registers of docs/bytecode.md):
 
 from __future__ import annotations
 
-import math
-import operator
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 
-from scriptc.bytecode.code import instructions
-from scriptc.bytecode.opcodes import BY_NAME
+from scriptc.bytecode.code import Instruction
+from scriptc.bytecode.opcodes import BY_CODE, BY_NAME, KINDS
 from scriptc.bytecode.program import Num
 from scriptc.bytecode.program import Program as Bytecode
+from scriptc.bytecode.verify import Verified
 from scriptc.runtime.bindings import READER
-from scriptc.runtime.evaluate import EvalContext
+from scriptc.runtime.commands import (
+    Audio,
+    BlockCommands,
+    Led,
+    Move,
+    Position,
+    RuleMessage,
+    compare_op,
+)
+from scriptc.runtime.evaluate import (
+    Check,
+    EvalContext,
+    Read,
+    alias_id,
+    attribute,
+    call,
+    comparison,
+    constant,
+    field_of,
+    invoke,
+    this_field,
+    this_id,
+    variable,
+)
 from scriptc.runtime.executor import End, ExecutorBase, Issue, ReadLimit, ReadResult, ReadSink
-from scriptc.runtime.commands import Audio, Instruction, Led, Move, Position, RuleMessage, compare_op
 from scriptc.runtime.world import Entity
 
 __all__ = ["VMProgram", "VMExecutor", "VMTrap", "program_from_bytecode"]
 
 MAX_BLOCKS_PER_READ = 100_000
-
-# Opcode numbers (the table's), as plain ints for the dispatch.
-_OP = {name: op.code for name, op in BY_NAME.items()}
-MOVE, LED, AUDIO, ISSUE = _OP["MOVE"], _OP["LED"], _OP["AUDIO"], _OP["ISSUE"]
-PAYLOAD, SENSE, END, GOTO, NEXT_BLOCK = (_OP["PAYLOAD"], _OP["SENSE"], _OP["END"], _OP["GOTO"],
-                                        _OP["NEXT_BLOCK"])
-COND, JUMP_IF_FALSE = _OP["COND"], _OP["JUMP_IF_FALSE"]
-FIND, NEXT_CANDIDATE, BIND = _OP["FIND"], _OP["NEXT_CANDIDATE"], _OP["BIND"]
-SET_VAR, SET_ATT, BOUND = _OP["SET_VAR"], _OP["SET_ATT"], _OP["BOUND"]
-PUSH_CONST, PUSH_VAR, PUSH_ALIAS, PUSH_FIELD, PUSH_ATT, PUSH_THIS, PUSH_THIS_FIELD = (
-    _OP["PUSH_CONST"], _OP["PUSH_VAR"], _OP["PUSH_ALIAS"], _OP["PUSH_FIELD"], _OP["PUSH_ATT"],
-    _OP["PUSH_THIS"], _OP["PUSH_THIS_FIELD"])
-COMPARE, CALL_B, CALL_F, CALL_E = _OP["COMPARE"], _OP["CALL_B"], _OP["CALL_F"], _OP["CALL_E"]
-
-_EXITS = (GOTO, NEXT_BLOCK)
-_FAST_OPS = {"OP<": operator.lt, "OP>": operator.gt, "OP=": operator.eq}
 
 
 class VMTrap(RuntimeError):
@@ -83,32 +95,183 @@ class VMTrap(RuntimeError):
     session reports it as a fatal `read` error in the trace."""
 
 
-# A decoded instruction: (opcode number, operands resolved...). Jump operands are indices in
-# the block's instruction list; block operands stay block indices.
-Op = tuple
+# ---------------------------------------------------------------------------------------------
+# Operands, read by their kinds (bytecode/opcodes.py, "Operand kinds")
+
+
+class _Operands:
+    """What reading the operands of one block needs: the constants, and where each of the
+    block's instructions starts (a jump operand becomes the index of its target step)."""
+
+    __slots__ = ("constants", "index")
+
+    def __init__(self, constants: Sequence[object], index: dict[int, int]) -> None:
+        self.constants = constants
+        self.index = index
+
+    def constant(self, value: int) -> object:
+        """A number's value or a text (a `const`, `num`, `text` or `name` operand)."""
+        c = self.constants[value]
+        return c.value if isinstance(c, Num) else c
+
+    def step(self, offset: int) -> int:
+        return self.index[offset]
+
+
+def _plain(operands: _Operands, value: int) -> int:
+    return value
+
+
+# The run-time value of an operand, by its kind: every kind of the table has one.
+_KIND_VALUE: dict[str, Callable[[_Operands, int], object]] = {
+    "u8": _plain, "u32": _plain, "bit": _plain, "block": _plain,
+    "const": _Operands.constant, "num": _Operands.constant, "text": _Operands.constant,
+    "name": _Operands.constant,
+    "scope": lambda operands, value: chr(value),
+    "cmp": lambda operands, value: "OP" + chr(value),  # the comparison as the language writes it
+    "jump": _Operands.step,
+}
+if set(_KIND_VALUE) != set(KINDS):
+    raise AssertionError(f"operand kinds without a run-time value: "
+                         f"{set(KINDS) ^ set(_KIND_VALUE)}")
+
+
+# ---------------------------------------------------------------------------------------------
+# Steps: what each instruction does, `(code, arguments...)`
+
+(_PUSH, _CALL, _BRANCH, _COMPARE, _FIND, _ASSIGN, _BOUND, _COND, _EXIT, _ISSUE, _SENSE, _END,
+ _NEXT_CANDIDATE, _BIND, _COMMAND, _PAYLOAD) = range(16)
+
+
+def _push(read: Read) -> tuple:
+    return (_PUSH, read.get, read)
+
+
+# Per mnemonic, the step of an instruction from its operands' values (in table order). Move,
+# Led and Audio take their fields in the order of MOVE's, LED's and AUDIO's operands.
+_STEPS: dict[str, Callable[..., tuple]] = {
+    "MOVE": lambda *values: (_COMMAND, 0, Move(*values)),
+    "LED": lambda *values: (_COMMAND, 1, Led(*values)),
+    "AUDIO": lambda *values: (_COMMAND, 2, Audio(*values)),
+    "ISSUE": lambda: (_ISSUE, BlockCommands()),
+    "PAYLOAD": lambda text: (_PAYLOAD, text),
+    "SENSE": lambda: (_SENSE, ()),
+    "END": lambda: (_END,),
+    "GOTO": lambda target: (_EXIT, target),
+    "NEXT_BLOCK": lambda: (_EXIT, None),
+    "COND": lambda fail, text: (_COND, fail, text),
+    "JUMP_IF_FALSE": lambda target: (_BRANCH, target),
+    "FIND": lambda cls, alias, scope, bind: (_FIND, cls, alias, scope, bind),
+    "NEXT_CANDIDATE": lambda: (_NEXT_CANDIDATE,),
+    "BIND": lambda: (_BIND,),
+    "SET_VAR": lambda scope, var: (
+        _ASSIGN, lambda ctx, value: ctx.assign_var(var, value, scope)),
+    "SET_ATT": lambda scope, alias, att: (
+        _ASSIGN, lambda ctx, value: ctx.assign_att(alias, att, value, scope)),
+    "BOUND": lambda alias: (_BOUND, alias),
+    "PUSH_CONST": lambda value: _push(constant(value)),
+    "PUSH_VAR": lambda name: _push(variable(name)),
+    "PUSH_ALIAS": lambda alias: _push(alias_id(alias)),
+    "PUSH_FIELD": lambda alias, name: _push(field_of(alias, name)),
+    "PUSH_ATT": lambda alias, name: _push(attribute(alias, name)),
+    "PUSH_THIS": lambda: _push(this_id()),
+    "PUSH_THIS_FIELD": lambda name: _push(this_field(name)),
+    "COMPARE": lambda op: (_COMPARE, op),
+    "CALL_B": lambda name, argc: (_CALL, name, "B", argc),
+    "CALL_F": lambda name, argc: (_CALL, name, "F", argc),
+    "CALL_E": lambda name, argc: (_CALL, name, "E", argc),
+}
+if set(_STEPS) != set(BY_NAME):
+    raise AssertionError(f"opcodes without a step: {set(BY_NAME) ^ set(_STEPS)}")
+
+# Per opcode number: the value readers of its operands, and its step.
+_DECODE: dict[int, tuple[tuple[Callable[[_Operands, int], object], ...],
+                         Callable[..., tuple]]] = {
+    op.code: (tuple(_KIND_VALUE[o.kind.name] for o in op.operands), _STEPS[op.name])
+    for op in BY_CODE.values()
+}
 
 
 class _Block:
-    __slots__ = ("kind", "label", "ops", "offsets", "searches", "condition")
+    __slots__ = ("kind", "label", "steps", "offsets", "entry", "searches", "condition")
 
     def __init__(self, kind: str, label: str) -> None:
         self.kind = kind
         self.label = label
-        self.ops: list[Op] = []
+        self.steps: list[tuple] = []
         self.offsets: list[int] = []  # code offset of each instruction (for spans)
-        self.searches: dict[int, tuple] = {}  # FIND index -> compiled tests
+        self.entry = 0  # the step reading starts at
+        self.searches: dict[int, tuple[Check, ...]] = {}  # FIND index -> compiled tests
         self.condition = ""
 
 
-def _cmp(op: int) -> str:
-    return "OP" + chr(op)
+def _steps(listing: Sequence[Instruction], operands: _Operands) -> list[tuple]:
+    """The steps of a block's instructions: each operand read by its kind, then the opcode's
+    step built from the values."""
+    steps = []
+    for ins in listing:
+        readers, step = _DECODE[ins.opcode.code]
+        steps.append(step(*[read(operands, raw) for read, raw in zip(readers, ins.operands)]))
+    return steps
+
+
+def _gather(block: _Block) -> None:
+    """Fold the constant steps at the start of an instruction or sensor block (its commands,
+    its payload) into the ISSUE or SENSE that takes them, and start reading there."""
+    steps = block.steps
+    k = 0
+    tracks: tuple[list, list, list] = ([], [], [])
+    payload: list[str] = []
+    while k < len(steps) and steps[k][0] in (_COMMAND, _PAYLOAD):
+        if steps[k][0] == _COMMAND:
+            tracks[steps[k][1]].append(steps[k][2])
+        else:
+            payload.append(steps[k][1])
+        k += 1
+    if k < len(steps) and steps[k][0] == _ISSUE and not payload:
+        steps[k] = (_ISSUE, BlockCommands(*map(tuple, tracks)))
+        block.entry = k
+    elif k < len(steps) and steps[k][0] == _SENSE and not any(tracks):
+        steps[k] = (_SENSE, tuple(payload))
+        block.entry = k
+
+
+def _compile_tests(steps: list[tuple], start: int, bind: int) -> tuple[Check, ...] | None:
+    """The tests of a search (steps `start` .. `bind`, after its NEXT_CANDIDATE) as the checks
+    evaluate.py builds, in order; None when they are not pushes, comparisons and calls, each
+    test closed by a JUMP_IF_FALSE with nothing left under it (what the verifier allows in a
+    search), so they run step by step."""
+    stack: list[Read] = []
+    checks: list[Check] = []
+    for k in range(start, bind):
+        step = steps[k]
+        code = step[0]
+        if code == _PUSH:
+            stack.append(step[2])
+        elif code == _COMPARE and len(stack) >= 2:
+            right = stack.pop()
+            stack.append(comparison(step[1], stack.pop(), right))
+        elif code == _CALL and len(stack) >= step[3]:
+            at = len(stack) - step[3]
+            args = stack[at:]
+            del stack[at:]
+            stack.append(call(step[1], step[2], args))
+        elif code == _BRANCH and len(stack) == 1:
+            checks.append(stack.pop().get)
+        else:
+            return None
+    return tuple(checks) if not stack else None
 
 
 class VMProgram:
     """A verified bytecode program, ready to be loaded any number of times (the runtime
-    `Program` interface)."""
+    `Loadable` interface)."""
 
-    def __init__(self, bytecode: Bytecode, path: str = "", compile_searches: bool = True) -> None:
+    def __init__(self, verified: Verified, path: str = "", compile_searches: bool = True
+                 ) -> None:
+        if not isinstance(verified, Verified):
+            raise TypeError("the VM runs verified programs only (bytecode.verify or load)")
+        bytecode = verified.program
         self.bytecode = bytecode
         self.path = path
         self.name = bytecode.activity
@@ -119,73 +282,46 @@ class VMProgram:
         self.goal_ids = tuple(text(g.id) for g in bytecode.goals)
         self.positions = [Position(*a) for a in bytecode.addresses()]
         self.index = {tuple(p): i for i, p in enumerate(self.positions)}
-        self.blocks = [self._decode(i) for i in range(len(bytecode.blocks))]
+        self.blocks = [self._block(i, listing) for i, listing in enumerate(verified.instructions)]
 
     def _message(self, kind: str, m) -> RuleMessage:
         text = self.bytecode.text
         return RuleMessage(kind, m.rulecode, text(m.id), text(m.intopic), text(m.outtopic),
                            m.action, m.mutex)
 
-    def _constant(self, index: int):
-        value = self.bytecode.constants[index]
-        return value.value if isinstance(value, Num) else value
-
-    def _decode(self, i: int) -> _Block:
-        bc = self.bytecode
-        record = bc.blocks[i]
-        block = _Block(record.kind, bc.text(record.label))
-        listing = list(instructions(bc.code, record.code, bc.block_end(i)))
-        where = {ins.offset: k for k, ins in enumerate(listing)}
-        text, const = bc.text, self._constant
-        for ins in listing:
-            op, o = ins.opcode.code, ins.operands
-            if op == MOVE:
-                decoded = (op, const(o[0]), const(o[1]), const(o[2]), o[3], o[4])
-            elif op == LED:
-                decoded = (op, const(o[0]), const(o[1]), const(o[2]), o[3], o[4], o[5])
-            elif op == AUDIO:
-                decoded = (op, text(o[0]), o[1], o[2])
-            elif op == PAYLOAD:
-                decoded = (op, text(o[0]))
-            elif op == GOTO:
-                decoded = (op, o[0])
-            elif op == COND:
-                block.condition = text(o[1])
-                decoded = (op, where[o[0]], text(o[1]))
-            elif op == JUMP_IF_FALSE:
-                decoded = (op, where[o[0]])
-            elif op == FIND:
-                decoded = (op, text(o[0]), text(o[1]), chr(o[2]), where[o[3]])
-            elif op == SET_VAR:
-                decoded = (op, chr(o[0]), text(o[1]))
-            elif op == SET_ATT:
-                decoded = (op, chr(o[0]), text(o[1]), text(o[2]))
-            elif op == PUSH_CONST:
-                decoded = (op, const(o[0]))
-            elif op == COMPARE:
-                decoded = (op, _cmp(o[0]))
-            elif op in (CALL_B, CALL_F, CALL_E):
-                decoded = (op, text(o[0]), o[1])
-            else:  # names only, or no operand
-                decoded = (op, *(text(x) for x in o))
-            block.ops.append(decoded)
-            block.offsets.append(ins.offset)
-        if self.compile_searches:
-            for k, decoded in enumerate(block.ops):
-                if decoded[0] == FIND:
-                    block.searches[k] = _compile_search(block.ops, k + 2, decoded[4])
+    def _block(self, i: int, listing: Sequence[Instruction]) -> _Block:
+        record = self.bytecode.blocks[i]
+        block = _Block(record.kind, self.bytecode.text(record.label))
+        block.offsets = [ins.offset for ins in listing]
+        operands = _Operands(self.bytecode.constants,
+                             {offset: k for k, offset in enumerate(block.offsets)})
+        block.steps = steps = _steps(listing, operands)
+        if block.kind == "J":
+            block.condition = steps[0][2]  # COND starts every jump block
+            if self.compile_searches:
+                for k, step in enumerate(steps):
+                    if step[0] == _FIND:
+                        checks = _compile_tests(steps, k + 2, step[4])
+                        if checks is not None:
+                            block.searches[k] = checks
+        else:
+            _gather(block)
         return block
 
     def executor(self) -> VMExecutor:
         return VMExecutor(self)
 
+    def mnemonic(self, block: int, pc: int) -> str:
+        """The mnemonic of the instruction of step `pc` of a block."""
+        return BY_CODE[self.bytecode.code[self.blocks[block].offsets[pc]]].name
+
     def where(self, block: int, pc: int) -> str:
         """`goal0/act0/blk1, line 11:33` for an instruction (for traps)."""
         path = self.positions[block].path
-        ops = self.blocks[block].offsets
-        if not 0 <= pc < len(ops):
+        offsets = self.blocks[block].offsets
+        if not 0 <= pc < len(offsets):
             return path
-        span = self.bytecode.span_at(ops[pc])
+        span = self.bytecode.span_at(offsets[pc])
         if span is None:
             return path
         position = self.bytecode.position(span.start)
@@ -194,110 +330,13 @@ class VMProgram:
         return f"{path} (line {position[0]}, column {position[1]})"
 
 
-def program_from_bytecode(program: Bytecode, path: str = "") -> VMProgram:
-    """The runtime `Program` of a verified bytecode program (`scriptc.bytecode.load`)."""
+def program_from_bytecode(program: Verified, path: str = "") -> VMProgram:
+    """The runtime program of a verified bytecode program (`scriptc.bytecode.verify`)."""
     return VMProgram(program, path)
 
 
 # ---------------------------------------------------------------------------------------------
-# Searches, translated to closures
-
-
-Getter = Callable[[Entity, EvalContext], object]
-Check = Callable[[Entity, EvalContext], bool]
-
-
-def _getter(op: Op) -> tuple[Getter, object]:
-    """A value push as a getter over (THIS, ctx); the second item is the constant, if any."""
-    code = op[0]
-    if code == PUSH_CONST:
-        value = op[1]
-        return (lambda e, ctx: value), value
-    if code == PUSH_VAR:
-        name = op[1]
-        return (lambda e, ctx: ctx.var(name)), None
-    if code == PUSH_ALIAS:
-        alias = op[1]
-
-        def alias_id(e, ctx):
-            entity = ctx.lookup(alias)
-            return None if entity is None else entity.id
-
-        return alias_id, None
-    if code == PUSH_FIELD:
-        alias, name = op[1], op[2]
-        return (lambda e, ctx: ctx.field(ctx.lookup(alias), name)), None
-    if code == PUSH_ATT:
-        alias, name = op[1], op[2]
-        return (lambda e, ctx: ctx.att(alias, name)), None
-    if code == PUSH_THIS:
-        return (lambda e, ctx: e.id), None
-    if code == PUSH_THIS_FIELD:
-        name = op[1]
-        return (lambda e, ctx: e.fields.get(name)), None
-    raise VMTrap(f"instruction {code:#x} inside a search")
-
-
-def _compare_check(op: str, left: Op, right: Op, lget: Getter, rget: Getter,
-                   constant) -> Check:
-    if (left[0] == PUSH_THIS_FIELD and right[0] == PUSH_CONST and isinstance(constant, float)
-            and math.isfinite(constant) and op in _FAST_OPS):
-        # `?THIS>&f OP number`, the common test: a numeric field is compared directly (the
-        # meaning of compare_op for two numbers), anything else through compare_op.
-        fast, name = _FAST_OPS[op], left[1]
-
-        def check(e, ctx):
-            v = e.fields.get(name)
-            kind = type(v)
-            if kind is float or kind is int:
-                return fast(v, constant)
-            return v is not None and compare_op(op, v, constant)
-
-        return check
-    return lambda e, ctx: compare_op(op, lget(e, ctx), rget(e, ctx))
-
-
-def _call_check(name: str, args: list[Getter]) -> Check:
-    if not args:
-        return lambda e, ctx: bool(ctx.call(name, "B", [], e))
-    if len(args) == 1:
-        (a,) = args
-        return lambda e, ctx: bool(ctx.call(name, "B", [a(e, ctx)], e))
-    return lambda e, ctx: bool(ctx.call(name, "B", [g(e, ctx) for g in args], e))
-
-
-def _compile_search(ops: list[Op], start: int, bind: int) -> tuple[Check, ...]:
-    """The tests of a search (instructions `start` .. `bind`, after its NEXT_CANDIDATE) as
-    checks over (THIS, ctx), in order. The verifier allows only value pushes, COMPARE, CALL_B
-    and JUMP_IF_FALSE back to NEXT_CANDIDATE there, and the stack is empty at each jump back."""
-    stack: list = []  # (op, getter, constant) for values; ("b", check) for truth values
-    checks: list[Check] = []
-    for k in range(start, bind):
-        op = ops[k]
-        code = op[0]
-        if code == COMPARE:
-            right, left = stack.pop(), stack.pop()
-            stack.append(("b", _compare_check(op[1], left[0], right[0], left[1], right[1],
-                                              right[2])))
-        elif code == CALL_B:
-            argc = op[2]
-            args = [g for _, g, _ in stack[len(stack) - argc:]]
-            del stack[len(stack) - argc:]
-            stack.append(("b", _call_check(op[1], args)))
-        elif code == JUMP_IF_FALSE:
-            checks.append(stack.pop()[1])
-        else:
-            getter, constant = _getter(op)
-            stack.append((op, getter, constant))
-    return tuple(checks)
-
-
-# ---------------------------------------------------------------------------------------------
 # The executor
-
-
-class _Fail(Exception):
-    """An instruction failed (docs/bytecode.md, "Failure"): continue at the handler."""
 
 
 class VMExecutor(ExecutorBase):
@@ -306,7 +345,7 @@ class VMExecutor(ExecutorBase):
     def __init__(self, program: VMProgram) -> None:
         super().__init__(program)
         self._block = 0  # the block register
-        self._pc: int | None = None  # None: arrive at the block; else resume at this index
+        self._pc: int | None = None  # None: arrive at the block; else resume at this step
 
     def start(self) -> None:
         self._block = 0
@@ -327,9 +366,10 @@ class VMExecutor(ExecutorBase):
         if self._pc is not None:
             # Resume after an ISSUE: the rest of that block (its NEXT_BLOCK).
             pc, self._pc = self._pc, None
-            i = self._transfer(i, pc, ctx, sink)
-            if isinstance(i, End):
-                return i
+            result = self._run(i, pc, ctx, sink)
+            if type(result) is not int:
+                return result
+            i = result
         for _ in range(max_blocks):
             if i >= n:
                 self._block = n
@@ -337,8 +377,8 @@ class VMExecutor(ExecutorBase):
             position = positions[i]
             self.position = position
             sink.visit(position)
-            result = self._run(i, ctx, sink)
-            if isinstance(result, int):
+            result = self._run(i, blocks[i].entry, ctx, sink)
+            if type(result) is int:
                 i = result
                 continue
             return result
@@ -346,203 +386,102 @@ class VMExecutor(ExecutorBase):
         raise ReadLimit(f"`{self.name}` read {max_blocks} blocks without reaching an "
                         "instruction block or its end (a jump cycle lets no time pass)")
 
-    def _transfer(self, i: int, pc: int, ctx: EvalContext, sink: ReadSink):
-        """Run block i from pc (after an ISSUE) to its end: the next block's index."""
-        ops = self.program.blocks[i].ops
-        code = ops[pc][0]
-        if code == NEXT_BLOCK:
-            return i + 1
-        return self._run(i, ctx, sink, pc)
-
-    def _run(self, i: int, ctx: EvalContext, sink: ReadSink, pc: int = 0):
-        """Run block i's code from pc until control leaves it: the next block's index, an
-        Issue or an End."""
+    def _run(self, i: int, pc: int, ctx: EvalContext, sink: ReadSink | None,
+             this: Entity | None = None):
+        """Run block i's steps from `pc` until control leaves the block: the next block's
+        index, an Issue or an End. With a candidate (`this`), run a search's tests from after
+        its NEXT_CANDIDATE instead: True when they reach the BIND, False when one sends the
+        candidate back to NEXT_CANDIDATE."""
         block = self.program.blocks[i]
-        try:
-            if block.kind == "J":
-                return self._jump(i, block, ctx, sink)
-            return self._straight(i, block, sink, pc)
-        except (ReadLimit, VMTrap):
-            raise
-        except Exception as exc:  # noqa: BLE001 - a trap, never a crash of the session
-            raise VMTrap(f"{self.program.where(i, self._trap_pc)}: "
-                         f"{type(exc).__name__}: {exc}") from exc
-
-    _trap_pc = 0
-
-    def _straight(self, i: int, block: _Block, sink: ReadSink, pc: int):
-        """Instruction, sensor and terminus blocks: no control flow but their ends."""
-        ops = block.ops
-        moves: list[Move] = []
-        leds: list[Led] = []
-        audios: list[Audio] = []
-        payload: list[str] = []
-        while True:
-            self._trap_pc = pc
-            op = ops[pc]
-            code = op[0]
-            if code == MOVE:
-                moves.append(Move(op[1], op[2], op[3], op[4], op[5]))
-            elif code == LED:
-                leds.append(Led(op[1], op[2], op[3], op[4], op[5], op[6]))
-            elif code == AUDIO:
-                audios.append(Audio(op[1], op[2], op[3]))
-            elif code == ISSUE:
-                self._block, self._pc = i, pc + 1
-                return Issue(self.program.positions[i],
-                             Instruction(tuple(moves), tuple(leds), tuple(audios)), block.label)
-            elif code == PAYLOAD:
-                payload.append(op[1])
-            elif code == SENSE:
-                sink.sensor(self.program.positions[i], tuple(payload))
-                payload = []
-            elif code == NEXT_BLOCK:
-                return i + 1
-            elif code == GOTO:
-                return op[1]
-            elif code == END:
-                self._block = len(self.program.blocks)
-                return End(self.program.positions[i], "terminus")
-            else:
-                raise VMTrap(f"opcode {code:#x} in a block of kind {block.kind}")
-            pc += 1
-
-    def _jump(self, i: int, block: _Block, ctx: EvalContext, sink: ReadSink):
-        """A jump block: the condition on the stack machine, then the exit taken."""
-        ops = block.ops
+        steps = block.steps
         stack: list = []
-        fail = len(ops)
-        pc = 0
-        while True:
-            self._trap_pc = pc
-            op = ops[pc]
-            code = op[0]
-            pc += 1
-            try:
-                if code == PUSH_CONST:
-                    stack.append(op[1])
-                elif code == PUSH_FIELD:
-                    stack.append(ctx.field(ctx.lookup(op[1]), op[2]))
-                elif code == PUSH_VAR:
-                    stack.append(ctx.var(op[1]))
-                elif code == PUSH_ATT:
-                    stack.append(ctx.att(op[1], op[2]))
-                elif code == PUSH_ALIAS:
-                    entity = ctx.lookup(op[1])
-                    stack.append(None if entity is None else entity.id)
-                elif code == CALL_E or code == CALL_F:
-                    argc = op[2]
+        fail = -1  # the failure handler, once COND has set it
+        try:
+            while True:
+                step = steps[pc]
+                code = step[0]
+                if code == _PUSH:
+                    stack.append(step[1](this, ctx))
+                elif code == _CALL:
+                    argc = step[3]
                     if argc:
                         args = stack[-argc:]
                         del stack[-argc:]
                     else:
                         args = []
-                    result = ctx.call(op[1], "E" if code == CALL_E else "F", args, None)
-                    stack.append(bool(result) if code == CALL_E else result)
-                elif code == JUMP_IF_FALSE:
+                    stack.append(invoke(ctx, step[1], step[2], args, this))
+                elif code == _BRANCH:
                     if not stack.pop():
-                        pc = op[1]
-                elif code == COMPARE:
+                        if step[1] < pc:
+                            return False  # back to NEXT_CANDIDATE: the candidate is rejected
+                        pc = step[1]
+                        continue
+                elif code == _COMPARE:
                     right = stack.pop()
-                    stack.append(compare_op(op[1], stack.pop(), right))
-                elif code == FIND:
-                    if op[1] not in ctx.world.classes:
-                        # Codegen writes only the classes of the map; a program that names
-                        # another is at fault when it runs.
-                        raise VMTrap(f"{self.program.where(i, pc - 1)}: FIND: the map has "
-                                     f"no class `{op[1]}`")
-                    if not self._search(block, pc - 1, op, ctx):
-                        raise _Fail
-                    pc = op[4] + 1  # after the BIND
-                elif code == SET_VAR:
-                    if not ctx.assign_var(op[2], stack.pop(), op[1]):
-                        raise _Fail
-                elif code == SET_ATT:
-                    if not ctx.assign_att(op[2], op[3], stack.pop(), op[1]):
-                        raise _Fail
-                elif code == BOUND:
-                    if ctx.lookup(op[1]) is None:
-                        raise _Fail
-                elif code == COND:
+                    stack.append(compare_op(step[1], stack.pop(), right))
+                elif code == _FIND:
+                    if not self._search(i, pc, step, ctx):
+                        stack.clear()
+                        pc = fail
+                        continue
+                    pc = step[4]  # the BIND: the search is over
+                elif code == _ASSIGN:
+                    if not step[1](ctx, stack.pop()):
+                        stack.clear()
+                        pc = fail
+                        continue
+                elif code == _BOUND:
+                    if ctx.lookup(step[1]) is None:
+                        stack.clear()
+                        pc = fail
+                        continue
+                elif code == _COND:
                     ctx.begin(READER, ctx.now)
                     stack.clear()
-                    fail = op[1]
-                elif code == GOTO or code == NEXT_BLOCK:
-                    value = pc - 1 < fail
-                    j = op[1] if code == GOTO else i + 1
-                    positions = self.program.positions
-                    sink.jump(positions[i], block.condition, ctx.result(value),
-                              positions[j] if j < len(positions) else None)
+                    fail = step[1]
+                elif code == _EXIT:
+                    j = i + 1 if step[1] is None else step[1]
+                    if fail >= 0:  # a jump's exit: true before the handler, false after
+                        positions = self.program.positions
+                        sink.jump(positions[i], block.condition, ctx.result(pc < fail),
+                                  positions[j] if j < len(positions) else None)
                     return j
-                else:
-                    # NEXT_CANDIDATE, BIND, PUSH_THIS, PUSH_THIS_FIELD, CALL_B run inside a
-                    # search (FIND runs it whole); the verifier keeps them there.
-                    raise VMTrap(f"{self.program.where(i, pc - 1)}: opcode {code:#x} "
-                                 "outside a search")
-            except _Fail:
-                stack.clear()
-                pc = fail
-
-    def _search(self, block: _Block, at: int, op: Op, ctx: EvalContext) -> bool:
-        """The search FIND starts (at index `at`) as one `assign_class` call."""
-        checks = block.searches.get(at)
-        if checks is not None:
-            if len(checks) == 1:
-                (check,) = checks
-
-                def passes(entity: Entity) -> bool:
-                    return check(entity, ctx)
-            else:
-                def passes(entity: Entity) -> bool:
-                    for check in checks:
-                        if not check(entity, ctx):
-                            return False
+                elif code == _ISSUE:
+                    self._block, self._pc = i, pc + 1
+                    return Issue(self.program.positions[i], step[1], block.label)
+                elif code == _SENSE:
+                    sink.sensor(self.program.positions[i], step[1])
+                elif code == _END:
+                    self._block = len(self.program.blocks)
+                    return End(self.program.positions[i], "terminus")
+                elif code == _BIND and this is not None:
                     return True
-        else:
-            ops = block.ops
-            start, bind = at + 2, op[4]
+                else:
+                    # NEXT_CANDIDATE and BIND run within a search (FIND runs it whole), the
+                    # commands and payloads of a block before its ISSUE or SENSE (gathered at
+                    # load): the verifier keeps them there.
+                    raise VMTrap(f"{self.program.where(i, pc)}: "
+                                 f"{self.program.mnemonic(i, pc)} cannot run here")
+                pc += 1
+        except (ReadLimit, VMTrap):
+            raise
+        except Exception as exc:  # noqa: BLE001 - a trap, never a crash of the session
+            raise VMTrap(f"{self.program.where(i, pc)}: "
+                         f"{type(exc).__name__}: {exc}") from exc
 
-            def passes(entity: Entity) -> bool:
-                return _run_tests(ops, start, bind, entity, ctx)
+    def _search(self, i: int, at: int, step: tuple, ctx: EvalContext) -> bool:
+        """The search the FIND step `at` of block i starts, as one `assign_class` call."""
+        _code, cls, alias, scope, _bind = step
+        if cls not in ctx.world.classes:
+            # Codegen writes only the classes of the map; a program that names another is
+            # at fault when it runs.
+            raise VMTrap(f"{self.program.where(i, at)}: FIND: the map has no class `{cls}`")
+        checks = self.program.blocks[i].searches.get(at)
+        if checks is None:
+            start = at + 2  # after the NEXT_CANDIDATE
 
-        return ctx.assign_class(op[2], op[1], op[3], passes)
+            def tests(entity: Entity, ctx: EvalContext) -> bool:
+                return self._run(i, start, ctx, None, entity)
 
-
-def _run_tests(ops: list[Op], start: int, bind: int, this: Entity, ctx: EvalContext) -> bool:
-    """A search's tests interpreted instruction by instruction with THIS = `this`: True when
-    they reach the BIND, False when a JUMP_IF_FALSE goes back to NEXT_CANDIDATE."""
-    stack: list = []
-    pc = start
-    while pc < bind:
-        op = ops[pc]
-        code = op[0]
-        pc += 1
-        if code == PUSH_THIS_FIELD:
-            stack.append(this.fields.get(op[1]))
-        elif code == PUSH_CONST:
-            stack.append(op[1])
-        elif code == PUSH_THIS:
-            stack.append(this.id)
-        elif code == PUSH_FIELD:
-            stack.append(ctx.field(ctx.lookup(op[1]), op[2]))
-        elif code == PUSH_VAR:
-            stack.append(ctx.var(op[1]))
-        elif code == PUSH_ATT:
-            stack.append(ctx.att(op[1], op[2]))
-        elif code == PUSH_ALIAS:
-            entity = ctx.lookup(op[1])
-            stack.append(None if entity is None else entity.id)
-        elif code == COMPARE:
-            right = stack.pop()
-            stack.append(compare_op(op[1], stack.pop(), right))
-        elif code == CALL_B:
-            argc = op[2]
-            args = stack[len(stack) - argc:]
-            del stack[len(stack) - argc:]
-            stack.append(bool(ctx.call(op[1], "B", args, this)))
-        elif code == JUMP_IF_FALSE:
-            if not stack.pop():
-                return False  # back to NEXT_CANDIDATE: the candidate is rejected
-        else:
-            raise VMTrap(f"opcode {code:#x} inside a search")
-    return True
+            checks = (tests,)
+        return ctx.assign_class(alias, cls, scope, checks)

@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from scriptc.numbers import number_problem, whole_number
-from scriptc.runtime.commands import Instruction
+from scriptc.runtime.commands import BlockCommands
 from scriptc.source import Span
 from scriptc.frontend.jsonpos import JsonError, JsonNode, parse_json
 
@@ -310,7 +310,7 @@ class ScriptInfo:
     action: int = -1
     blockid: int = -1
     path: str = ""
-    block: Instruction | None = None
+    block: BlockCommands | None = None
     changed: bool = False
     override: OverrideRequest | None = None
     submove: int = 0
