@@ -53,13 +53,8 @@ import gc
 import logging
 import os
 import sys
-import threading
 
 from lsprotocol import types as lsp
-from pygls.exceptions import JsonRpcException, JsonRpcInternalError
-from pygls.lsp.server import LanguageServer
-from pygls.protocol import LanguageServerProtocol, lsp_method
-from pygls.protocol.json_rpc import JsonRPCResponseMessage
 
 from scriptc import __version__
 from scriptc.ide import actions, completion, formatting, hints, hover, navigation, outline, tokens
@@ -67,6 +62,9 @@ from scriptc.ide.document import Document, configured_document
 from scriptc.project.config.load import CONFIG_FILES
 from scriptc.ide.answers import RenameError
 from scriptc.server import convert
+from scriptc.server.pyglsshim import (JsonRpcException, JsonRpcInternalError, LanguageServer,
+                                      serve_stdio)
+from scriptc.server.pyglsshim import Protocol as PyglsProtocol
 
 log = logging.getLogger("scriptc.server")
 
@@ -83,70 +81,33 @@ class Refusal(JsonRpcException):
     CODE = REQUEST_FAILED
 
 
-class Protocol(LanguageServerProtocol):
-    """pygls's protocol, with text synchronisation left to the server's own documents, and
-    results already in JSON form (`convert.Json`: completion lists, semantic tokens) sent as
-    they are: pygls would otherwise walk them with cattrs, which costs more than computing
-    them (10 ms for the 560 labels of a large script)."""
+class Protocol(PyglsProtocol):
+    """pygls's protocol (adjusted in `pyglsshim.py`) with the server's policies: completion
+    lists and semantic tokens (`convert.Json`) sent as they are, how a failed request is
+    answered, and pull diagnostics offered only to a client that will pull them."""
 
-    def _handle_notification(self, method_name, params):
-        """pygls's, without its leak: pygls 2.1 files the future of a notification whose
-        handler is a generator (the text synchronisation below, `initialized`...) among the
-        futures of requests, under an id of its own making, and nothing ever removes it:
-        1.4 KiB for every keystroke of a session. A notification has no response to wait
-        for and no id a client could cancel, so what it filed there is dropped once it is
-        handled."""
-        filed = self._request_futures
-        before = set(filed)  # the requests under way: a few at most
-        super()._handle_notification(method_name, params)
-        for key in [key for key in filed if key not in before]:
-            filed.pop(key, None)
+    raw_results = convert.Json
 
-    def _send_handler_result(self, future, *, msg_id):
-        """pygls's, for the two outcomes it words badly: a `Refusal` is answered as it is,
-        without the traceback pygls logs at ERROR for every error response; a bug (any other
-        exception) is logged with its traceback on stderr and answered as an internal error
-        that says what failed, without the traceback pygls puts in the answer's data."""
-        error = None if future.cancelled() else future.exception()
-        if error is None or (isinstance(error, JsonRpcException) and not isinstance(error, Refusal)):
-            return super()._send_handler_result(future, msg_id=msg_id)
-        self._request_futures.pop(msg_id, None)
-        if not isinstance(error, Refusal):
-            log.error("request %s failed", msg_id, exc_info=error)
-            error = JsonRpcInternalError(
-                message=f"scriptc could not answer: {type(error).__name__}: {error} "
-                        "(the server's log on stderr has the details; please report it)")
-        self._send_response(msg_id, error=error.to_response_error())
+    def error_answer(self, error: BaseException, msg_id) -> JsonRpcException | None:
+        """A `Refusal` is answered as it is, without the traceback pygls logs at ERROR for
+        every error response; a bug (any other exception) is logged with its traceback on
+        stderr and answered as an internal error that says what failed, without the traceback
+        pygls puts in the answer's data. pygls answers its own errors."""
+        if isinstance(error, JsonRpcException) and not isinstance(error, Refusal):
+            return None
+        if isinstance(error, Refusal):
+            return error
+        log.error("request %s failed", msg_id, exc_info=error)
+        return JsonRpcInternalError(
+            message=f"scriptc could not answer: {type(error).__name__}: {error} "
+                    "(the server's log on stderr has the details; please report it)")
 
-    def _serialize_message(self, data):
-        if isinstance(data, JsonRPCResponseMessage) and isinstance(data.result, convert.Json):
-            return {"id": data.id, "jsonrpc": data.jsonrpc, "result": data.result.value}
-        return super()._serialize_message(data)
-
-    @lsp_method(lsp.INITIALIZE)
-    def lsp_initialize(self, params):
-        """pygls's, with pull diagnostics offered only to a client that will pull them
-        (`diagnostic_modes`): a client that can pull pulls whenever the server offers it,
-        and would show pushed diagnostics a second time."""
-        result = yield from super().lsp_initialize(params)
-        if not self._server.pull:
+    def initialize_result(self, result: lsp.InitializeResult) -> None:
+        """A client that can pull diagnostics pulls whenever the server offers it, and would
+        show pushed diagnostics a second time: pull is offered only to a client that will
+        pull (`diagnostic_modes`)."""
+        if not self.server.pull:
             result.capabilities.diagnostic_provider = None
-        return result
-
-    @lsp_method(lsp.TEXT_DOCUMENT_DID_OPEN)
-    def lsp_text_document__did_open(self, params):
-        if (handler := self.fm.features.get(lsp.TEXT_DOCUMENT_DID_OPEN)) is not None:
-            yield handler, (params,), None
-
-    @lsp_method(lsp.TEXT_DOCUMENT_DID_CHANGE)
-    def lsp_text_document__did_change(self, params):
-        if (handler := self.fm.features.get(lsp.TEXT_DOCUMENT_DID_CHANGE)) is not None:
-            yield handler, (params,), None
-
-    @lsp_method(lsp.TEXT_DOCUMENT_DID_CLOSE)
-    def lsp_text_document__did_close(self, params):
-        if (handler := self.fm.features.get(lsp.TEXT_DOCUMENT_DID_CLOSE)) is not None:
-            yield handler, (params,), None
 
 
 class ScriptcServer(LanguageServer):
@@ -621,39 +582,10 @@ def serve(log_level: str = "WARNING") -> None:
     sys.stdout = sys.stderr
     gc.disable()  # collections run when idle (ScriptcServer.analysed)
     try:
-        asyncio.run(_serve(stdin, stdout))
+        asyncio.run(serve_stdio(SERVER, stdin, stdout, log))
     except (KeyboardInterrupt, SystemExit, BrokenPipeError, ConnectionResetError):
         pass
     except asyncio.IncompleteReadError:
         log.info("the client closed the connection in the middle of a message")
     finally:
         SERVER.shutdown()
-
-
-def _is_pipe(stream) -> bool:
-    import os
-    import stat
-
-    try:
-        mode = os.fstat(stream.fileno()).st_mode
-    except (OSError, ValueError, AttributeError):
-        return False
-    return stat.S_ISFIFO(mode) or stat.S_ISSOCK(mode)
-
-
-async def _serve(stdin, stdout) -> None:
-    """pygls's stdio loop, reading stdin through an asyncio pipe rather than a thread per
-    read (pygls's default): three thread hand-offs per message cost milliseconds on a busy
-    machine."""
-    from pygls.io_ import StdinAsyncReader, StdoutWriter, run_async
-
-    SERVER._stop_event = threading.Event()
-    SERVER.protocol.set_writer(StdoutWriter(stdout))
-    loop = asyncio.get_running_loop()
-    if _is_pipe(stdin):
-        reader = asyncio.StreamReader(limit=2**30)
-        await loop.connect_read_pipe(lambda: asyncio.StreamReaderProtocol(reader), stdin)
-    else:  # a file, /dev/null, a terminal: epoll cannot watch those
-        reader = StdinAsyncReader(stdin, SERVER.thread_pool)
-    await run_async(stop_event=SERVER._stop_event, reader=reader, protocol=SERVER.protocol,
-                    logger=log, error_handler=SERVER.report_server_error)
