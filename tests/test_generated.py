@@ -264,3 +264,22 @@ def test_the_loader_and_the_schema_read_one_implementation_pattern(text: str) ->
     pattern = schema["$defs"]["implementation"]["pattern"]
     declared = build_settings({"rules": [{"name": "r", "implementation": text}]})
     assert bool(declared.rules) == (re.search(pattern, text) is not None)
+
+
+def test_the_rule_grammar_docs_list_the_languages_letters() -> None:
+    """docs/rules.md explains each letter in its own words (tables), docs/language.md names
+    them in passing: the letters are the language's, all of them."""
+    rules = (ROOT / "docs" / "rules.md").read_text(encoding="utf-8")
+
+    def column(header: str) -> set[str]:
+        table = rules[rules.index(f"| {header} |"):]
+        table = table[:table.index("\n\n")]
+        return set(re.findall(r"^\| `(\w)` \|", table, re.MULTILINE))
+
+    assert column("action") == set(language.RULE_ACTIONS)
+    assert column("mutex") == set(language.MUTEXES)
+    assert column("scope") == set(language.SCOPES)
+    text = (ROOT / "docs" / "language.md").read_text(encoding="utf-8")
+    assert f"ACTION one of `{' '.join(language.RULE_ACTIONS)}`" in text
+    assert f"MUTEX one of `{' '.join(language.MUTEXES)}`" in text
+    assert all(f"`{op}`" in rules for op in language.OPERATORS)
