@@ -37,11 +37,11 @@ from scriptc import language
 from scriptc.project.config.settings import IMPLEMENTATION_PATTERN
 from scriptc.robot.limits import LIMITS, MISSING_LIMIT_RULE, toml_section
 
-__all__ = ["ROOT", "TARGETS", "generated", "stale", "fill_regions", "regions", "main"]
+__all__ = ["ROOT", "TARGETS", "fill_regions", "generated", "main", "regions", "stale"]
 
 ROOT = Path(__file__).resolve().parent.parent.parent
 
-_REGION = re.compile(r"(<!-- generated: ([\w-]+) -->\n)(.*?)(<!-- end: \2 -->)", re.S)
+_REGION = re.compile(r"(<!-- generated: ([\w-]+) -->\n)(.*?)(<!-- end: \2 -->)", re.DOTALL)
 
 
 def fill_regions(text: str, renderers: Mapping[str, Callable[[], str]]) -> str:
@@ -131,8 +131,8 @@ def _json_strings(values: Mapping[str, str]) -> Callable[[str], str]:
             pattern = re.compile(rf'("{re.escape(key)}"\s*:\s*)"(?:[^"\\]|\\.)*"')
             if len(pattern.findall(text)) != 1:
                 raise ValueError(f"the key `{key}` is not in the file exactly once")
-            text = pattern.sub(lambda m: m.group(1) + json.dumps(value, ensure_ascii=False),
-                               text)
+            written = json.dumps(value, ensure_ascii=False)
+            text = pattern.sub(lambda m, written=written: m.group(1) + written, text)
         return text
 
     return rewrite
@@ -254,8 +254,8 @@ def render_lexical() -> str:
          language.NAME_PATTERN),
         ("number", "decimal: sign, fraction and exponent optional (`-0.25`, `10`, `.5`, `1e3`)",
          language.NUMBER_PATTERN),
-        ("alias", f"`{sigils['ALIAS']}` and a name (`?kid`); `{language.THIS}` is the "
-                  "candidate of a CLASS test", language.sigiled("ALIAS")),
+        ("alias", (f"`{sigils['ALIAS']}` and a name (`?kid`); `{language.THIS}` is the "
+                   "candidate of a CLASS test"), language.sigiled("ALIAS")),
         ("class", f"`{sigils['CLASS_REF']}` and a name (`#Human`)",
          language.sigiled("CLASS_REF")),
         ("variable", f"`{sigils['VAR_REF']}` and a name (`@count`)",

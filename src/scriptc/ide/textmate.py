@@ -17,8 +17,10 @@ from typing import Any
 from scriptc.ir.builtins import CLASSES
 from scriptc.language import (
     ASSIGNMENTS,
+    ATT_ACCESS,
     BLOCK_KINDS,
     COMMENT_PATTERN,
+    FIELD_ACCESS,
     FUNCTION_KINDS,
     ITEM_KEYWORDS,
     MUTEXES,
@@ -36,12 +38,10 @@ from scriptc.language import (
     THIS,
     TRACKS,
     TRUE,
-    FIELD_ACCESS,
-    ATT_ACCESS,
     not_in_name,
 )
 
-__all__ = ["grammar", "word_pattern", "first_line", "increase_indent", "decrease_indent"]
+__all__ = ["decrease_indent", "first_line", "grammar", "increase_indent", "word_pattern"]
 
 _QUOTE = STRING_PATTERN[0]
 _STRING_BODY = STRING_PATTERN[1:-1]
@@ -70,6 +70,11 @@ def _choice(words) -> str:
 
 def _letters(table) -> str:
     return "[" + "".join(table) + "]"
+
+
+def _include(name: str) -> dict[str, str]:
+    """A reference to a rule of the grammar's repository."""
+    return {"include": f"#{name}"}
 
 
 def _scope(name: str) -> dict[str, str]:
@@ -106,15 +111,14 @@ def _delimited(name: str | None, begin: str, end: str, patterns: list[dict[str, 
 
 def grammar() -> dict[str, Any]:
     """The TextMate grammar of the script syntax (scope `source.scriptc`)."""
-    include = lambda name: {"include": f"#{name}"}  # noqa: E731 - a one-line constructor
-    string_patterns = [include("escape")]
+    string_patterns = [_include("escape")]
     label = {"name": "entity.name.label.scriptc", "match": NAME_PATTERN}
     kinds = _choice(BLOCK_KINDS)
     return {
         "name": "scriptc",
         "scopeName": "source.scriptc",
         "fileTypes": ["script"],
-        "patterns": [include("comment"), include("item"), include("unterminated-string")],
+        "patterns": [_include("comment"), _include("item"), _include("unterminated-string")],
         "repository": {
             "comment": {
                 "name": "comment.block.percentage.scriptc",
@@ -139,9 +143,9 @@ def grammar() -> dict[str, Any]:
             "number": {"name": "constant.numeric.scriptc", "match": _number()},
             "comma": {"name": "punctuation.separator.comma.scriptc", "match": ","},
             "item": {"patterns": [
-                include("rule-message"),
-                include("goal"),
-                include("block"),
+                _include("rule-message"),
+                _include("goal"),
+                _include("block"),
                 {"name": "meta.item.action.scriptc", "match": r"(\[)\s*(action)\s*(\])",
                  "captures": _captures("punctuation.section.item.begin",
                                        "keyword.other.action", "punctuation.section.item.end")},
@@ -149,7 +153,7 @@ def grammar() -> dict[str, Any]:
                  "captures": _captures("punctuation.section.item.begin",
                                        "entity.name.section.activity",
                                        "punctuation.section.item.end")},
-                _delimited("meta.item", r"\[", _ITEM_END, [include("item-body")],
+                _delimited("meta.item", r"\[", _ITEM_END, [_include("item-body")],
                            "punctuation.section.item.begin", "punctuation.section.item.end"),
                 {"name": "invalid.illegal.stray-bracket.scriptc", "match": r"\]"},
             ]},
@@ -162,7 +166,7 @@ def grammar() -> dict[str, Any]:
                 "end": _ITEM_END,
                 "endCaptures": {"0": _scope("punctuation.section.item.end")},
                 "patterns": [
-                    include("comment"), include("string"), include("number"), include("comma"),
+                    _include("comment"), _include("string"), _include("number"), _include("comma"),
                     {"name": "constant.language.rule-action.scriptc",
                      "match": not_in_name(_letters(RULE_ACTIONS)) + rf"(?=\s*{_COMMENTS},)"},
                     {"name": "constant.language.mutex.scriptc",
@@ -178,7 +182,7 @@ def grammar() -> dict[str, Any]:
                                            "entity.name.section.goal"),
                 "end": _ITEM_END,
                 "endCaptures": {"0": _scope("punctuation.section.item.end")},
-                "patterns": [include("comment"),
+                "patterns": [_include("comment"),
                              {"name": "entity.name.section.goal.scriptc", "match": NAME_PATTERN}],
             },
             "block": {
@@ -190,11 +194,11 @@ def grammar() -> dict[str, Any]:
                                            "punctuation.separator.label", "storage.type.block"),
                 "end": _ITEM_END,
                 "endCaptures": {"0": _scope("punctuation.section.item.end")},
-                "patterns": [include("item-body")],
+                "patterns": [_include("item-body")],
             },
             "item-body": {"patterns": [
-                include("comment"), include("track"), include("cnd"), include("jump"),
-                include("string"), include("number"), include("comma"),
+                _include("comment"), _include("track"), _include("cnd"), _include("jump"),
+                _include("string"), _include("number"), _include("comma"),
                 {"name": "punctuation.separator.colon.scriptc", "match": ":"},
                 {"name": "keyword.other.block.scriptc", "match": rf"(?<!{NAME_CHAR})b(?=\s*#)"},
                 {"name": "storage.type.block.scriptc", "match": not_in_name(f"(?:{kinds})")},
@@ -210,7 +214,7 @@ def grammar() -> dict[str, Any]:
                                            "punctuation.section.parens.begin"),
                 "end": rf"\)|(?={_OPEN_STRING_TO_EOL})",
                 "endCaptures": {"0": _scope("punctuation.section.parens.end")},
-                "patterns": [include("comment"), include("command-string"), include("comma")],
+                "patterns": [_include("comment"), _include("command-string"), _include("comma")],
             },
             "jump": {
                 "match": rf"(?<!{NAME_CHAR})(TRJMP|FLSJMP)\s*(\()\s*({NAME_PATTERN})?\s*(\))",
@@ -225,9 +229,9 @@ def grammar() -> dict[str, Any]:
                                            "punctuation.section.parens.begin"),
                 "end": rf"\)|(?={_OPEN_STRING_TO_EOL})",
                 "endCaptures": {"0": _scope("punctuation.section.parens.end")},
-                "patterns": [include("condition")],
+                "patterns": [_include("condition")],
             },
-            "condition": {"patterns": _condition(include)},
+            "condition": {"patterns": _condition()},
             "unterminated-string": {
                 "name": "string.quoted.double.unterminated.scriptc "
                         "invalid.illegal.unterminated-string.scriptc",
@@ -237,11 +241,11 @@ def grammar() -> dict[str, Any]:
     }
 
 
-def _condition(include) -> list[dict[str, Any]]:
-    nested = [include("condition")]
+def _condition() -> list[dict[str, Any]]:
+    nested = [_include("condition")]
     return [
-        include("comment"),
-        include("string"),
+        _include("comment"),
+        _include("string"),
         _delimited(None, r"\{", rf"\}}|(?={_OPEN_STRING_TO_EOL})", nested,
                    "punctuation.section.braces.begin", "punctuation.section.braces.end"),
         _delimited(None, r"\(", rf"\)|(?={_OPEN_STRING_TO_EOL})", nested,
@@ -267,8 +271,8 @@ def _condition(include) -> list[dict[str, Any]]:
         _sigiled("ALIAS", "variable.other.alias"),
         _sigiled("VAR_REF", "variable.other.var"),
         _sigiled("ATT_REF", "variable.other.attribute"),
-        include("number"),
-        include("comma"),
+        _include("number"),
+        _include("comma"),
         {"name": "storage.modifier.scope.scriptc", "match": not_in_name(_letters(SCOPES))},
         {"name": "entity.name.function.scriptc", "match": rf"{NAME_PATTERN}(?=\s*\()"},
         {"name": "invalid.illegal.operator.scriptc",

@@ -23,7 +23,7 @@ import math
 from collections.abc import Mapping
 from typing import NamedTuple
 
-__all__ = ["Limit", "LIMITS", "BY_KEY", "BY_FIELD", "MISSING_LIMIT_RULE", "toml_section"]
+__all__ = ["BY_FIELD", "BY_KEY", "LIMITS", "MISSING_LIMIT_RULE", "Limit", "toml_section"]
 
 MISSING_LIMIT_RULE = ("Every key is optional: a limit that is not given, or whose value is "
                       "rejected, keeps its safe default (the robot is never unlimited).")
