@@ -89,11 +89,12 @@ def _letters(table, first: str = "", *, every: bool = False) -> str:
 _ITEMS = (
     ("goal:", "goal:${1:id}", "a goal: `[goal:ID]`, then its actions"),
     ("action", "action", "an action: `[action]`, then its blocks"),
-    ("alfa:", 'alfa:${1:0}, ${2:rule_id}, "${3}", "${4}", '
-     f'${{5|{_letters(RULE_ACTIONS)}|}}, ${{6|{_letters(MUTEXES, "MU")}|}}',
+    ("alfa:", ('alfa:${1:0}, ${2:rule_id}, "${3}", "${4}", '
+               f'${{5|{_letters(RULE_ACTIONS)}|}}, ${{6|{_letters(MUTEXES, "MU")}|}}'),
      "a rule message issued when the script starts"),
-    ("omega:", 'omega:${1:0}, ${2:rule_id}, "${3}", "${4}", '
-     f'${{5|{_letters(RULE_ACTIONS, "RC", every=True)}|}}, ${{6|{_letters(MUTEXES, "LM")}|}}',
+    ("omega:", ('omega:${1:0}, ${2:rule_id}, "${3}", "${4}", '
+                f'${{5|{_letters(RULE_ACTIONS, "RC", every=True)}|}}, '
+                f'${{6|{_letters(MUTEXES, "LM")}|}}'),
      "a rule message issued when the script ends"),
 )
 _BLOCKS = (

@@ -59,7 +59,7 @@ _TOKEN = re.compile("|".join(f"(?P<{group}>{pattern})" for group, pattern in (
     ("punct", r">&|>|[\[\]():,{}!#]"),
     ("space", r"\s+"),
     ("other", "."),
-)), re.S)
+)), re.DOTALL)
 _ITEM_KEYWORDS = frozenset(ITEM_KEYWORDS)
 _BODY_KEYWORDS = frozenset((*TRACKS, *JUMP_WORDS))
 _CONDITION_KEYWORDS = frozenset((*ASSIGNMENTS, TRUE))
