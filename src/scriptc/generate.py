@@ -123,6 +123,14 @@ def _tmgrammar(_old: str) -> str:
     return _json(grammar())
 
 
+def _prefixed(written: str) -> Callable[[re.Match[str]], str]:
+    """A replacement that keeps the match's first group (the key) and writes `written`."""
+    def replace(m: re.Match[str]) -> str:
+        return m.group(1) + written
+
+    return replace
+
+
 def _json_strings(values: Mapping[str, str]) -> Callable[[str], str]:
     """Rewrite the string value of each (unique) key of a JSON text, leaving its layout."""
     def rewrite(old: str) -> str:
@@ -132,7 +140,7 @@ def _json_strings(values: Mapping[str, str]) -> Callable[[str], str]:
             if len(pattern.findall(text)) != 1:
                 raise ValueError(f"the key `{key}` is not in the file exactly once")
             written = json.dumps(value, ensure_ascii=False)
-            text = pattern.sub(lambda m, written=written: m.group(1) + written, text)
+            text = pattern.sub(_prefixed(written), text)
         return text
 
     return rewrite
