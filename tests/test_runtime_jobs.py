@@ -14,7 +14,7 @@ import pytest
 
 from scriptc.analysis.analyze import analyze_bytes
 from scriptc.runtime.bindings import READER, Bindings
-from scriptc.runtime.commands import Position, RuleMessage
+from scriptc.runtime.commands import RuleMessage
 from scriptc.runtime.goals import Goals
 from scriptc.runtime.interp import IRProgram
 from scriptc.runtime.loading import LoadError

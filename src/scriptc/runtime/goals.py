@@ -29,7 +29,7 @@ class Goals:
     """The running script's goals: its name and goal ids, the goal it is in (`current`, an
     index; None until its first block is read), and its load's record."""
 
-    __slots__ = ("world", "trace", "status", "script", "goal_ids", "current", "load")
+    __slots__ = ("current", "goal_ids", "load", "script", "status", "trace", "world")
 
     def __init__(self, world: World, trace: Trace, status: RunStatus) -> None:
         self.world = world

@@ -26,7 +26,14 @@ from scriptc.runtime.bindings import Bindings
 from scriptc.runtime.commands import RuleMessage
 from scriptc.runtime.evaluate import EvalContext, evaluate
 from scriptc.runtime.goals import Goals
-from scriptc.runtime.rules import Rule, RuleChain, RuleContext, RuleError, RuleLibrary, UnknownRule
+from scriptc.runtime.rules import (
+    Rule,
+    RuleChain,
+    RuleContext,
+    RuleError,
+    RuleLibrary,
+    UnknownRule,
+)
 from scriptc.runtime.status import MUTEX_MISUSE, RULE, UNKNOWN_RULECODE, RunStatus
 from scriptc.runtime.trace import Trace
 from scriptc.runtime.updates import Updates
@@ -38,7 +45,7 @@ class RuleEffects:
     the map and its bindings, holding motion for the pass, goal records, map updates and
     notes in the trace. `held` says whether a body asked to hold motion in this pass."""
 
-    __slots__ = ("world", "bindings", "trace", "goals", "updates", "held")
+    __slots__ = ("bindings", "goals", "held", "trace", "updates", "world")
 
     def __init__(self, world: World, bindings: Bindings, trace: Trace, goals: Goals,
                  updates: Updates) -> None:
@@ -68,8 +75,17 @@ class Mutex:
     """The chain of rules, its lock, the hand-over and the chain pass (see the module's
     docstring)."""
 
-    __slots__ = ("chain", "library", "trace", "status", "ctx", "bindings", "actuators",
-                 "effects", "skip_reported")
+    __slots__ = (
+        "actuators",
+        "bindings",
+        "chain",
+        "ctx",
+        "effects",
+        "library",
+        "skip_reported",
+        "status",
+        "trace",
+    )
 
     def __init__(self, library: RuleLibrary, trace: Trace, status: RunStatus, ctx: EvalContext,
                  actuators: Actuators, effects: RuleEffects) -> None:

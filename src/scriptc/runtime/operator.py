@@ -21,7 +21,7 @@ from scriptc.runtime.trace import Trace
 class Operator:
     """The joystick between a scenario's operator events and the actuators."""
 
-    __slots__ = ("trace", "actuators", "status")
+    __slots__ = ("actuators", "status", "trace")
 
     def __init__(self, trace: Trace, actuators: Actuators, status: RunStatus) -> None:
         self.trace = trace

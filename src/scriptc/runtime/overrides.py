@@ -32,7 +32,7 @@ from scriptc.runtime.world import World
 class Overrides:
     """Switches and `script_vect` (see the module's docstring)."""
 
-    __slots__ = ("world", "trace", "status", "scripts", "goals", "actuators")
+    __slots__ = ("actuators", "goals", "scripts", "status", "trace", "world")
 
     def __init__(self, world: World, trace: Trace, status: RunStatus, scripts: Scripts,
                  goals: Goals, actuators: Actuators) -> None:

@@ -59,7 +59,7 @@ class Catalogue:
     name wins), and the loader of others by path (`loading.Loader`). Names that are not
     activity names are paths relative to `folder` (the scenario's; else the working folder)."""
 
-    __slots__ = ("programs", "folder", "loader")
+    __slots__ = ("folder", "loader", "programs")
 
     def __init__(self, programs, folder: str | None = None, loader: Loader | None = None) -> None:
         self.programs: dict[str, Loadable] = {}
@@ -94,10 +94,29 @@ class Scripts:
     actuators is consumed (or none was issued), so step 7 reads; `pending_issue`: a block was
     read and step 1 issues it."""
 
-    __slots__ = ("lifo", "idle", "catalogue", "stop_when_done", "world", "trace", "status",
-                 "goals", "sink", "mutex", "bindings", "actuators", "ctx", "max_loops",
-                 "executor", "program", "loads", "need_read", "pending_issue", "issued_path",
-                 "issued_label")
+    __slots__ = (
+        "actuators",
+        "bindings",
+        "catalogue",
+        "ctx",
+        "executor",
+        "goals",
+        "idle",
+        "issued_label",
+        "issued_path",
+        "lifo",
+        "loads",
+        "max_loops",
+        "mutex",
+        "need_read",
+        "pending_issue",
+        "program",
+        "sink",
+        "status",
+        "stop_when_done",
+        "trace",
+        "world",
+    )
 
     def __init__(self, programs, idle: Loadable, catalogue: Catalogue, *, stop_when_done: bool,
                  world: World, trace: Trace, status: RunStatus, goals: Goals, sink: ReaderSink,

@@ -30,7 +30,7 @@ from scriptc.runtime.evaluate import EvalContext
 from scriptc.runtime.executor import Loadable
 from scriptc.runtime.functions import STANDARD_IMPLEMENTATIONS, Implementations
 from scriptc.runtime.goals import Goals
-from scriptc.runtime.loading import LoadError, Loader
+from scriptc.runtime.loading import Loader, LoadError
 from scriptc.runtime.loop import MAX_LOOPS_PER_INSTANT, Loop, RunResult
 from scriptc.runtime.mutex import Mutex, RuleEffects
 from scriptc.runtime.operator import Operator
@@ -45,7 +45,7 @@ from scriptc.runtime.trace import Trace
 from scriptc.runtime.updates import Updates
 from scriptc.runtime.world import World
 
-__all__ = ["Session", "RunResult", "LoadRecord", "LoadError", "MAX_LOOPS_PER_INSTANT"]
+__all__ = ["MAX_LOOPS_PER_INSTANT", "LoadError", "LoadRecord", "RunResult", "Session"]
 
 
 class Session:

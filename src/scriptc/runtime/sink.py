@@ -25,7 +25,7 @@ from scriptc.runtime.world import World
 class ReaderSink:
     """The session's `ReadSink` (see the module's docstring)."""
 
-    __slots__ = ("world", "goals", "trace", "status", "script", "goal_ids")
+    __slots__ = ("goal_ids", "goals", "script", "status", "trace", "world")
 
     def __init__(self, world: World, goals: Goals, trace: Trace, status: RunStatus) -> None:
         self.world = world

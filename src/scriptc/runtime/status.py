@@ -33,7 +33,7 @@ class RunStatus:
     """The session's clock hand (`now`: the instant under way, in ms), its end (`done`, and
     `outcome`: `completed`, `until`, `stalled`, `error` or `interrupted`), and its problems."""
 
-    __slots__ = ("trace", "now", "done", "outcome", "on_fatal")
+    __slots__ = ("done", "now", "on_fatal", "outcome", "trace")
 
     def __init__(self, trace: Trace, on_fatal: Callable[[int], None] | None = None) -> None:
         self.trace = trace

@@ -23,7 +23,7 @@ from scriptc.runtime.world import MapUpdate, UpdateError, World, parse_update
 class Updates:
     """Posting and applying map updates (see the module's docstring)."""
 
-    __slots__ = ("world", "trace", "status", "on_script_vect")
+    __slots__ = ("on_script_vect", "status", "trace", "world")
 
     def __init__(self, world: World, trace: Trace, status: RunStatus,
                  on_script_vect: Callable[[int, dict], None] | None = None) -> None:
