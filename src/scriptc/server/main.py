@@ -463,7 +463,7 @@ def _request(method: str, options=None, *, analysed: bool = True, position: bool
         handle.__name__ = answer.__name__
         handle.__qualname__ = answer.__qualname__
         handle.__doc__ = answer.__doc__
-        handle.answers = answer  # the one path's mark (tests/lsp check every handler has it)
+        handle.answers = answer  # the one path's mark (tests/test_server_requests.py)
         SERVER.feature(method, options)(handle)
         return handle
 
