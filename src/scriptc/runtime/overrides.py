@@ -46,6 +46,7 @@ class Overrides:
     def apply(self, now: int) -> None:
         """Step 5: the switch a rule raised (`ScriptInfo.override`), taken from the map."""
         request = self.world.script.override
+        assert request is not None  # the loop calls this only when a rule raised one
         self.world.script.override = None
         status, scripts = self.status, self.scripts
         try:
@@ -59,8 +60,9 @@ class Overrides:
             return
         goal = request.goal
         executor = scripts.executor
-        same = executor is not None and scripts.program is program
-        goal_ids = (executor.goal_ids if same else program.executor().goal_ids)
+        # The running script itself: a seek (its executor), not a switch.
+        same = executor if executor is not None and scripts.program is program else None
+        goal_ids = (same if same is not None else program.executor()).goal_ids
         if isinstance(goal, str):
             # (A number of hundreds of digits, beyond the number policy, names no goal.)
             index = whole_number(goal) if goal.isascii() and goal.isdigit() else None
@@ -76,9 +78,9 @@ class Overrides:
         self.trace.emit(now, "override", by=request.by,
                         script=executor.name if executor is not None else None,
                         to=program.name, at=position.path)
-        if same:
+        if same is not None:
             try:
-                executor.seek(position)
+                same.seek(position)
             except SeekError as exc:
                 status.report(now, OVERRIDE, str(exc))
                 return
@@ -88,8 +90,10 @@ class Overrides:
             return
         scripts.unload(now, "override")
         scripts.load(now, program, "override")
+        target = scripts.executor
+        assert target is not None  # just loaded
         try:
-            scripts.executor.seek(position)
+            target.seek(position)
         except SeekError as exc:
             status.report(now, OVERRIDE, f"{exc}: it starts at its first block")
 
