@@ -16,7 +16,7 @@ from scriptc.analysis.analyze import analyze_script
 from scriptc.ide.document import Document, canonical
 from scriptc.ide.incremental import Analyzer
 from scriptc.ide.pads import Layout
-from scriptc.ide.shift import _SHIFTERS, shift
+from scriptc.ir.shift import _MAPPERS, _SHIFTERS, map_spans, shift
 from scriptc.ir import nodes
 from scriptc.source import SourceFile, Span
 from scriptc.syntax.scan import scan
@@ -195,6 +195,29 @@ def test_every_node_type_can_be_shifted() -> None:
         for value in vars(module).values():
             if isinstance(value, type) and dataclasses.is_dataclass(value) and value.__module__ == module.__name__:
                 assert value in _SHIFTERS, f"{value.__name__} has no generated shifter (is it slotted?)"
+                assert value in _MAPPERS, f"{value.__name__} has no generated mapper"
+
+
+def test_map_spans_passes_every_span_through_the_remap() -> None:
+    """`map_spans` with a shift is `shift`; with any other map, every span of the IR and of the
+    diagnostics (labels and fixes too) is the map's image, and nothing else changes."""
+    from scriptc.diagnostics.model import Diagnostic, Fix, Label, Severity, TextEdit
+
+    script = analyze_script(SourceFile("x", (CASES / "emit" / "features.script").read_text(
+        encoding="utf-8"))).script
+    assert map_spans(script, lambda s: s.shift(17)) == shift(script, 17)
+    doubled = map_spans(script, lambda s: Span(2 * s.start, 2 * s.end))
+    block = script.goals[0].actions[0].blocks[0]
+    assert doubled.goals[0].actions[0].blocks[0].span == Span(2 * block.span.start,
+                                                              2 * block.span.end)
+    assert map_spans(doubled, lambda s: Span(s.start // 2, s.end // 2)) == script
+    d = Diagnostic("L003", Severity.ERROR, "m", Span(1, 2), labels=(Label(Span(3, 4), "l"),),
+                   notes=("n",), fix=Fix("f", (TextEdit(Span(5, 6), "x"),)))
+    moved = map_spans(d, lambda s: Span(s.start + 10, s.end + 20))
+    assert moved == Diagnostic("L003", Severity.ERROR, "m", Span(11, 22),
+                               labels=(Label(Span(13, 24), "l"),), notes=("n",),
+                               fix=Fix("f", (TextEdit(Span(15, 26), "x"),)))
+    assert map_spans(None, lambda s: s) is None
 
 
 def test_canonical_joins_surrogate_pairs() -> None:

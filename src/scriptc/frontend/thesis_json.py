@@ -39,6 +39,7 @@ from scriptc.diagnostics.codes import diagnostic
 from scriptc.gcpause import gc_paused
 from scriptc.ir import nodes as ir
 from scriptc.ir.fields import read_number
+from scriptc.ir.shift import map_spans, shift
 from scriptc.language import MUTEXES, RULE_ACTIONS, name_problem, to_name
 from scriptc.numbers import MAX_DIGITS, whole_number
 from scriptc.source import SourceFile, Span
@@ -549,27 +550,7 @@ class _ConditionCache:
         if base == 0:
             return parsed
         condition, problems = parsed
-        shift = lambda span: span.shift(base)  # noqa: E731
-        return (_map_spans(condition, shift) if condition is not None else None,
-                [_map_spans(d, shift) for d in problems])
-
-
-_FIELD_NAMES: dict[type, tuple[str, ...]] = {}
-
-
-def _map_spans(obj, remap):
-    """A copy of IR node or diagnostic `obj` with every Span passed through `remap`."""
-    if isinstance(obj, Span):
-        return remap(obj)
-    if isinstance(obj, tuple):
-        return tuple(_map_spans(x, remap) for x in obj)
-    cls = type(obj)
-    names = _FIELD_NAMES.get(cls)
-    if names is None:
-        if not dataclasses.is_dataclass(cls):
-            return obj
-        names = _FIELD_NAMES[cls] = tuple(f.name for f in dataclasses.fields(cls))
-    return cls(**{name: _map_spans(getattr(obj, name), remap) for name in names})
+        return shift(condition, base), [shift(d, base) for d in problems]
 
 
 def _json_escape_edit(edit: TextEdit) -> TextEdit:
@@ -749,10 +730,10 @@ class _Reader:
                 return Span(offsets[min(span.start, last)], offsets[min(span.end, last)])
 
             condition, problems = self.conditions.parse(text, 0)
-            condition = _map_spans(condition, remap) if condition is not None else None
+            condition = map_spans(condition, remap)
             mapped = []
             for d in problems:
-                d = _map_spans(d, remap)
+                d = map_spans(d, remap)
                 if d.fix is not None:
                     d = dataclasses.replace(d, fix=Fix(d.fix.message, tuple(
                         _json_escape_edit(e) for e in d.fix.edits), d.fix.safe))

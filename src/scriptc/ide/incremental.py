@@ -17,7 +17,7 @@ into `[...]` items and parses each one alone), which is what makes this cheap. P
 4. **Lower** each item through a cache keyed by the tree and the item's span: an item at the
    same place reuses its IR and diagnostics as they are; an item that moved (a structural
    edit, or a pad that ran out) gets its old IR moved by the difference
-   (`scriptc.ide.shift`, a third of the cost of lowering again); only new items are lowered.
+   (`scriptc.ir.shift`, a third of the cost of lowering again); only new items are lowered.
    The assembly of the hierarchy and the structure checks (S codes) run over all items: they
    are cheap and depend on the order of items.
 5. **Check** the whole script with the passes of `scriptc.check`, then apply suppression
@@ -45,7 +45,7 @@ from scriptc.analysis.analyze import Analysis, finish
 from scriptc.diagnostics.model import Diagnostic
 from scriptc.gcpause import gc_paused
 from scriptc.ide.pads import IDENTITY, Layout
-from scriptc.ide.shift import shift
+from scriptc.ir.shift import shift
 from scriptc.frontend import script as _lower
 from scriptc.ir.builtins import STANDARD, FunctionRegistry
 from scriptc.ir.nodes import Script

@@ -1,7 +1,7 @@
 """Slack: spaces the analysis keeps after edited items, so that typing moves nothing else.
 
 When a keystroke changes the length of one item, every item after it starts at another
-offset, and their lowered IR would have to be moved (`scriptc.ide.shift`): on a 90 KB script
+offset, and their lowered IR would have to be moved (`scriptc.ir.shift`): on a 90 KB script
 that is most of the cost of a keystroke near the top. So the analyser works on its own copy
 of the text, the *analysis text*, which is the document's text with runs of spaces (*pads*)
 right after the `]` of items that were edited. Typing into such an item takes its length from

@@ -1,67 +1,84 @@
-"""Moving lowered IR and diagnostics by a number of characters, for incremental analysis.
+"""Moving the spans of IR values and diagnostics: the one way to make a copy of a lowered value
+that stands somewhere else in its text.
 
-When an edit changes the length of the text, every item after it keeps its text but starts
-at another offset. Lowering such an item again costs about 80 us; moving the IR it lowered
-to before by `delta` costs a third of that. `shift(value, delta)` rebuilds a value of the
-IR (`scriptc.ir.nodes`) or of the diagnostic model (`scriptc.diagnostics.model`) with every
-`Span` moved; strings, numbers, booleans, enums and None are kept as they are.
+- `shift(value, delta)` moves every span by `delta` characters. The language server moves the
+  IR an item lowered to before when an edit moves the item (`scriptc.ide.incremental`: a third
+  of the cost of lowering it again); the thesis-JSON reader moves a condition parsed once to
+  where each copy of its text stands.
+- `map_spans(value, remap)` passes every span through `remap`: the thesis-JSON reader maps the
+  spans of a condition parsed from a JSON string's value back to the characters of the JSON
+  text (escapes make the value shorter than its text).
 
-The rebuilding functions are generated once per dataclass from its fields (a span field
-becomes `Span(s + delta, e + delta)`, a tuple field a list comprehension, any other field a
-recursive call), so a node type added to the IR later is handled without a change here. A
-value of a type that is neither one of these dataclasses nor a leaf raises TypeError: the
-caller then lowers the item afresh rather than keep a span it could not move.
+A value is one of the IR (`scriptc.ir.nodes`) or of the diagnostic model
+(`scriptc.diagnostics.model`), or a tuple of them; strings, numbers, booleans, enums and None
+are kept as they are. The rebuilding functions are generated once per dataclass from its
+fields (a span field becomes its moved span, a tuple field a list comprehension, any other
+field a recursive call), so a node type added to the IR later is handled without a change
+here. A value of a type that is neither one of these dataclasses nor a leaf raises TypeError:
+the caller then lowers the item afresh rather than keep a span it could not move.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import enum
+from collections.abc import Callable
 
 from scriptc.diagnostics import model as _model
 from scriptc.ir import nodes as _nodes
 from scriptc.source import Span
 
-__all__ = ["shift", "shift_span"]
+__all__ = ["shift", "map_spans"]
 
 _tuple_new = tuple.__new__
 _LEAVES = (str, int, float, bool, enum.Enum)
+# The generated functions of each dataclass, by family: "shift" takes a delta, "map" a remap.
 _SHIFTERS: dict[type, object] = {}
+_MAPPERS: dict[type, object] = {}
+_FAMILIES = {"shift": _SHIFTERS, "map": _MAPPERS}
+# A moved span, in each family: `x` is the span, `d` the delta or the remap.
+_MOVED = {"shift": "tnew(S, ({x}[0] + d, {x}[1] + d))", "map": "d({x})"}
 
 
-def shift_span(span: Span, delta: int) -> Span:
-    return _tuple_new(Span, (span[0] + delta, span[1] + delta))
+def _dispatcher(movers: dict[type, object], move_span: Callable) -> Callable:
+    """The function that moves the spans of any value of one family: a dataclass through its
+    generated function, a span through `move_span`, a tuple element by element."""
+
+    def move_any(value, d):
+        mover = movers.get(type(value))
+        if mover is not None:
+            return mover(value, d)
+        if value is None:
+            return None
+        t = type(value)
+        if t is Span:
+            return move_span(value, d)
+        if t is tuple:
+            return tuple([move_any(v, d) for v in value])
+        if isinstance(value, _LEAVES):
+            return value
+        raise TypeError(f"cannot move the spans of a {t.__name__}")
+
+    return move_any
 
 
-def _shift_any(value, delta: int):
-    shifter = _SHIFTERS.get(type(value))
-    if shifter is not None:
-        return shifter(value, delta)
-    if value is None:
-        return None
-    t = type(value)
-    if t is Span:
-        return _tuple_new(Span, (value[0] + delta, value[1] + delta))
-    if t is tuple:
-        return tuple([_shift_any(v, delta) for v in value])
-    if isinstance(value, _LEAVES):
-        return value
-    raise TypeError(f"cannot shift a {t.__name__}")
-
+_shift_any = _dispatcher(_SHIFTERS, lambda span, d: _tuple_new(Span, (span[0] + d, span[1] + d)))
+_map_any = _dispatcher(_MAPPERS, lambda span, remap: remap(span))
 
 # One namespace for the generated functions, so that each can call the others by name.
-_ENV: dict[str, object] = {"new": object.__new__, "S": Span, "tnew": _tuple_new, "any_": _shift_any}
+_ENV: dict[str, object] = {"new": object.__new__, "S": Span, "tnew": _tuple_new,
+                           "shift_any": _shift_any, "map_any": _map_any}
 
 
-def _compile(cls: type, known: set[str]) -> None:
+def _compile(cls: type, known: set[str], family: str) -> None:
     """Generate the function rebuilding one frozen, slotted dataclass with its spans moved.
     Fields are set through their slot descriptors: frozen dataclasses refuse `setattr`, and
     going through `__init__` would cost a call to `object.__setattr__` per field. A field
     whose annotation names one node class calls that class's function directly; unions go
-    through `_shift_any`, which dispatches on the type."""
+    through the family's dispatcher, which dispatches on the type."""
     name = cls.__name__
     _ENV[f"C_{name}"] = cls
-    lines = [f"def shift_{name}(o, d):", f"    n = new(C_{name})"]
+    lines = [f"def {family}_{name}(o, d):", f"    n = new(C_{name})"]
     for f in dataclasses.fields(cls):
         annotation = f.type if isinstance(f.type, str) else getattr(f.type, "__name__", "")
         setter = f"set_{name}_{f.name}"
@@ -70,26 +87,26 @@ def _compile(cls: type, known: set[str]) -> None:
         element = annotation[len("tuple["):-len(", ...]")] if annotation.startswith("tuple[") else ""
         optional = annotation[:-len(" | None")] if annotation.endswith(" | None") else ""
         if annotation == "Span":
-            value = f"tnew(S, ({get}[0] + d, {get}[1] + d))"
+            value = _MOVED[family].format(x=get)
         elif annotation in ("str", "bool", "int", "str | None"):
             value = get
         elif annotation in known:
-            value = f"shift_{annotation}({get}, d)"
+            value = f"{family}_{annotation}({get}, d)"
         elif optional in known:
             lines.append(f"    v = {get}")
-            value = f"None if v is None else shift_{optional}(v, d)"
+            value = f"None if v is None else {family}_{optional}(v, d)"
         elif element in known:
-            value = f"tuple([shift_{element}(x, d) for x in {get}])"
-        elif element in ("str", "Span"):
-            value = get if element == "str" else f"tuple([any_(x, d) for x in {get}])"
+            value = f"tuple([{family}_{element}(x, d) for x in {get}])"
+        elif element == "str":
+            value = get
         elif annotation.startswith("tuple["):
-            value = f"tuple([any_(x, d) for x in {get}])"
+            value = f"tuple([{family}_any(x, d) for x in {get}])"
         else:
-            value = f"any_({get}, d)"
+            value = f"{family}_any({get}, d)"
         lines.append(f"    {setter}(n, {value})")
     lines.append("    return n")
     exec("\n".join(lines), _ENV)  # noqa: S102 - code generated from dataclass fields only
-    _SHIFTERS[cls] = _ENV[f"shift_{name}"]
+    _FAMILIES[family][cls] = _ENV[f"{family}_{name}"]
 
 
 def _register(*modules) -> None:
@@ -98,7 +115,8 @@ def _register(*modules) -> None:
                and value.__module__ == module.__name__ and "__slots__" in value.__dict__]
     known = {cls.__name__ for cls in classes}
     for cls in classes:
-        _compile(cls, known)
+        for family in _FAMILIES:
+            _compile(cls, known, family)
 
 
 _register(_nodes, _model)
@@ -109,3 +127,8 @@ def shift(value, delta: int):
     if delta == 0:
         return value
     return _shift_any(value, delta)
+
+
+def map_spans(value, remap: Callable[[Span], Span]):
+    """`value` with every span replaced by `remap(span)`."""
+    return _map_any(value, remap)
