@@ -22,9 +22,9 @@ carries: the IR stays honest about the jump pointing nowhere, and a checker run 
 the unknown label.
 
 The IR is built only from a document of the right shape: after J001 or J002 the script is None.
-A valid document is recognised by `_Check`, a small compiled reading of the same schema file;
-jsonschema runs (imported there, so no lint path pays for it) only on a document that is not
-valid, to list what is wrong.
+A valid document is recognised by fastjsonschema (the schema file compiled to Python code);
+jsonschema runs only on a document that is not valid, to list what is wrong. Both are imported
+on first use, so no lint of scripts pays for them.
 """
 
 from __future__ import annotations
@@ -130,6 +130,27 @@ def _validator():
     return jsonschema.Draft202012Validator(_schema())
 
 
+@cache
+def _fast_validator():
+    """fastjsonschema's validator of the shipped schema: the schema compiled to Python code,
+    which says yes to a valid document far sooner than jsonschema (a 10,000-block file: a
+    fifth of a second, where jsonschema takes seconds), and raises on the first error without
+    saying much. Compiled on first use, so only a reader of thesis JSON imports it."""
+    import fastjsonschema
+
+    return fastjsonschema.compile(_schema()), fastjsonschema.JsonSchemaException
+
+
+def _is_valid(instance: object) -> bool:
+    """Whether the document is valid (tests hold the answer equal to jsonschema's)."""
+    validate, invalid = _fast_validator()
+    try:
+        validate(instance)
+    except invalid:
+        return False
+    return True
+
+
 def _join(steps) -> str:
     return "/".join(str(s) for s in steps)
 
@@ -223,13 +244,12 @@ def _type_help(steps, node: JsonNode, expected: str, source: str) -> str | None:
 
 
 def _schema_problems(root: JsonNode, source_text: str) -> list[Diagnostic]:
-    check = _fast_check()
-    if check is not None and check.valid(root):
-        return []
     # The schema looks 7 levels deep (top, goal, action, block, track, command, field);
-    # deeper containers are left empty so that jsonschema, which recurses and prints values
-    # with repr, copes with any nesting.
+    # deeper containers are left empty, which changes no answer of the schema's and lets the
+    # validators, which recurse and print values with repr, cope with any nesting.
     instance = root.to_python(max_depth=_SCHEMA_DEPTH)
+    if _is_valid(instance):
+        return []
     out: list[Diagnostic] = []
     done_required: set[str] = set()
     for error in _validator().iter_errors(instance):
@@ -279,162 +299,6 @@ def _schema_problems(root: JsonNode, source_text: str) -> list[Diagnostic]:
             out.append(diagnostic("J002", f"{_where(path)}: {error.message}", node.span,
                                   path=path or None))
     return out
-
-
-class _Unsupported(Exception):
-    """The schema uses a keyword `_Check` does not know: let jsonschema decide."""
-
-
-_IGNORED_KEYWORDS = frozenset({"$schema", "$id", "$defs", "title", "description", "$comment"})
-_KNOWN_KEYWORDS = _IGNORED_KEYWORDS | {
-    "$ref", "type", "enum", "const", "pattern", "required", "properties", "patternProperties",
-    "additionalProperties", "items", "allOf", "if", "then", "else"}
-
-
-def _json_equal(a: object, b: object) -> bool:
-    if isinstance(a, bool) or isinstance(b, bool):
-        return type(a) is type(b) and a == b
-    return a == b
-
-
-class _Check:
-    """One subschema, compiled to answer "is this node valid?" quickly.
-
-    jsonschema takes seconds on a 10,000-block file, because it evaluates every keyword
-    through several layers of generic machinery; a valid file (the common case) needs only a
-    yes. `_Check` walks the same schema file, compiled once, and answers yes or no; only on a
-    no does jsonschema run, to say what is wrong. It must never say yes where jsonschema finds
-    an error (tests/test_json_read.py checks that the two agree); a keyword it does not know
-    raises `_Unsupported` at compile time. It recurses along the schema, not the document, so
-    its depth is bounded by the schema's nesting whatever the document's."""
-
-    __slots__ = ("always", "ref", "types", "enum", "const", "has_const", "pattern", "required",
-                 "properties", "patterns", "additional", "items", "all_of", "if_", "then",
-                 "else_")
-
-    def __init__(self, schema, compile_ref) -> None:
-        self.always: bool | None = None
-        if schema is True or schema is False:
-            self.always = schema
-            return
-        unknown = set(schema) - _KNOWN_KEYWORDS
-        if unknown:
-            raise _Unsupported(sorted(unknown)[0])
-        ref = schema.get("$ref")
-        self.ref = compile_ref(ref) if ref is not None else None
-        t = schema.get("type")
-        self.types = None if t is None else ((t,) if isinstance(t, str) else tuple(t))
-        self.enum = schema.get("enum")
-        self.has_const = "const" in schema
-        self.const = schema.get("const")
-        self.pattern = re.compile(schema["pattern"]) if "pattern" in schema else None
-        self.required = tuple(schema.get("required", ()))
-        self.properties = {k: _Check(v, compile_ref)
-                           for k, v in schema.get("properties", {}).items()}
-        self.patterns = [(re.compile(k), _Check(v, compile_ref))
-                         for k, v in schema.get("patternProperties", {}).items()]
-        self.additional = _Check(schema.get("additionalProperties", True), compile_ref)
-        self.items = _Check(schema["items"], compile_ref) if "items" in schema else None
-        self.all_of = [_Check(v, compile_ref) for v in schema.get("allOf", ())]
-        self.if_ = _Check(schema["if"], compile_ref) if "if" in schema else None
-        self.then = _Check(schema["then"], compile_ref) if "then" in schema else None
-        self.else_ = _Check(schema["else"], compile_ref) if "else" in schema else None
-
-    def valid(self, node: JsonNode) -> bool:
-        if self.always is not None:
-            return self.always
-        if self.ref is not None and not self.ref.valid(node):
-            return False
-        kind = node.kind
-        if self.types is not None:
-            for t in self.types:
-                if t == kind or (t == "integer" and kind == "number" and (
-                        type(node.value) is int or node.value.is_integer())):  # type: ignore
-                    break
-                if t == "number" and kind == "number":
-                    break
-            else:
-                return False
-        if self.enum is not None and (kind in ("object", "array") or not any(
-                _json_equal(node.value, v) for v in self.enum)):
-            return False
-        if self.has_const and (kind in ("object", "array")
-                               or not _json_equal(node.value, self.const)):
-            return False
-        if self.pattern is not None and kind == "string" and \
-                self.pattern.search(node.value) is None:  # type: ignore[arg-type]
-            return False
-        if kind == "object":
-            members = node.members
-            if self.required:
-                keys = {m.key for m in members}
-                for key in self.required:
-                    if key not in keys:
-                        return False
-            properties = self.properties
-            for m in members:
-                matched = False
-                sub = properties.get(m.key)
-                if sub is not None:
-                    matched = True
-                    if not sub.valid(m.value):
-                        return False
-                for regex, sub in self.patterns:
-                    if regex.search(m.key):
-                        matched = True
-                        if not sub.valid(m.value):
-                            return False
-                if not matched and not self.additional.valid(m.value):
-                    return False
-        elif kind == "array" and self.items is not None:
-            items = self.items
-            for item in node.items:
-                if not items.valid(item):
-                    return False
-        for sub in self.all_of:
-            if not sub.valid(node):
-                return False
-        if self.if_ is not None:
-            branch = self.then if self.if_.valid(node) else self.else_
-            if branch is not None and not branch.valid(node):
-                return False
-        return True
-
-
-class _Ref:
-    """A `$ref` to `#/$defs/NAME`, compiled on first use (definitions may refer to
-    themselves)."""
-
-    __slots__ = ("name", "defs", "compiled")
-
-    def __init__(self, name: str, defs: dict[str, _Check | None]) -> None:
-        self.name = name
-        self.defs = defs
-        self.compiled: _Check | None = None
-
-    def valid(self, node: JsonNode) -> bool:
-        if self.compiled is None:
-            self.compiled = self.defs[self.name]
-        return self.compiled.valid(node)  # type: ignore[union-attr]
-
-
-@cache
-def _fast_check() -> _Check | None:
-    """The compiled shipped schema, or None when it uses a keyword `_Check` does not know."""
-    schema = _schema()
-    defs: dict[str, _Check | None] = {}
-
-    def compile_ref(ref: str) -> _Ref:
-        if not ref.startswith("#/$defs/") or ref[len("#/$defs/"):] not in schema.get("$defs", {}):
-            raise _Unsupported(ref)
-        return _Ref(ref[len("#/$defs/"):], defs)
-
-    try:
-        for name, sub in schema.get("$defs", {}).items():
-            defs[name] = _Check(sub, compile_ref)
-        return _Check(schema, compile_ref)
-    except _Unsupported:
-        return None
 
 
 def _misnumbered_help(key: str) -> str | None:
