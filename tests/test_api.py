@@ -296,6 +296,7 @@ def test_build_text_equals_the_library():
 # the example generator
 
 
+@pytest.mark.slow
 def test_the_generator_reproduces_the_thesis_dance_example(tmp_path):
     out = tmp_path / "out"
     result = subprocess.run([sys.executable, str(GENERATOR), str(out), "--steps", "5",
@@ -313,6 +314,7 @@ def test_the_generator_reproduces_the_thesis_dance_example(tmp_path):
     decode((out / "dance_5.scb").read_bytes())
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("steps", "message"), [
     ("0", "a dance has 1 to 1000 steps, not 0"),
     ("-3", "a dance has 1 to 1000 steps, not -3"),
@@ -407,6 +409,7 @@ def test_the_built_text_is_already_formatted(make) -> None:
     assert format_text(text).text == text
 
 
+@pytest.mark.slow
 def test_generated_conditions_are_printed_in_the_formatters_layout() -> None:
     from hypothesis import HealthCheck, given, settings
 

@@ -31,6 +31,7 @@ def test_twenty_thousand_open_brackets_are_capped() -> None:
     assert 0 < len(found) <= 100 and set(found) == {"P002"}
 
 
+@pytest.mark.slow
 def test_the_scanner_keeps_no_more_diagnostics_than_are_shown() -> None:
     """A million stray `[` made a million diagnostics, one by one, to show a hundred (more
     than 20 s for a 1 MB line: the fuzz campaign's slow class); every item is still found."""
@@ -87,6 +88,7 @@ def test_huge_time_is_refused() -> None:
     assert "V006" in codes(text)
 
 
+@pytest.mark.slow
 def test_many_megabytes_of_one_line() -> None:
     """A 4 MB comment and a megabyte of items, all on one line (the items cost ~0.1 ms each,
     which bench/bench_compile.py measures; the test holds correctness, not speed)."""

@@ -42,6 +42,7 @@ def _compile(text: str, name: str = "t.script") -> bytes:
     return encode(codegen(analysis.script, source))
 
 
+@pytest.mark.slow
 @FAST
 @given(scripts())
 def test_generated_scripts_compile_verify_and_round_trip(text: str) -> None:
@@ -106,6 +107,7 @@ def corruptions(draw) -> bytes:
     return _reseal(data) if draw(st.booleans()) else data
 
 
+@pytest.mark.slow
 @MANY
 @given(corruptions())
 def test_corrupted_files_are_refused_cleanly(data: bytes) -> None:

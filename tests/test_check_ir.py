@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import time
 
+import pytest
+
 from scriptc.check import PASSES, check_script
 from scriptc.ir import nodes as ir
 from scriptc.source import SourceFile, Span
@@ -388,6 +390,7 @@ def _chain(n):
     return build(goals=[("g", [blocks])])
 
 
+@pytest.mark.slow
 def test_ten_thousand_blocks_check_fast():
     pair = _chain(10_000)
     script, source = pair
@@ -403,6 +406,7 @@ def _timed(script, source):
     return time.perf_counter() - start
 
 
+@pytest.mark.slow
 def test_long_jump_cycle_needs_no_recursion():
     # 5,000 jumps in one cycle: a recursive SCC would overflow Python's stack.
     n = 5000

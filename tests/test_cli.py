@@ -184,6 +184,7 @@ def without_root_powers() -> None:
             raise OSError(ctypes.get_errno(), "prctl(PR_CAPBSET_DROP)")
 
 
+@pytest.mark.slow
 def test_a_folder_that_cannot_be_read_is_an_error(files: Path) -> None:
     locked = files / "locked"
     locked.mkdir()
@@ -573,6 +574,7 @@ def test_explain_needs_a_code_or_all(args: list[str]) -> None:
 # real processes
 
 
+@pytest.mark.slow
 def test_process_lint_exit_codes(files: Path) -> None:
     assert process("lint", "clean.script", cwd=files).returncode == 0
     assert process("lint", "warns.script", cwd=files).returncode == 0
@@ -583,6 +585,7 @@ def test_process_lint_exit_codes(files: Path) -> None:
     assert (missing.returncode, missing.stderr) == (2, b"error: `nope.script` does not exist\n")
 
 
+@pytest.mark.slow
 def test_process_stdin_and_binary_input(files: Path) -> None:
     piped = process("lint", "-", "--format", "github", input=BROKEN.encode(), cwd=files)
     assert piped.returncode == 1 and piped.stdout.startswith(b"::error file=<stdin>,line=4,")
@@ -592,6 +595,7 @@ def test_process_stdin_and_binary_input(files: Path) -> None:
     assert b"Traceback" not in binary.stderr
 
 
+@pytest.mark.slow
 def test_process_compile_and_version(files: Path) -> None:
     out = process("compile", "clean.script", "-o", "-", cwd=files)
     assert out.returncode == 0 and json.loads(out.stdout)["activityname"] == "clean_act"

@@ -92,6 +92,7 @@ def test_every_verb_is_listed_and_has_help() -> None:
 # shell completion: click's protocol, in real processes
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("shell", ["bash", "zsh", "fish"])
 def test_the_completion_script_of_each_shell(shell: str) -> None:
     verb = process("completion", shell)
@@ -110,6 +111,7 @@ def complete(shell: str, words: str, cword: int | str) -> str:
     return result.stdout
 
 
+@pytest.mark.slow
 def test_completing_a_verb() -> None:
     assert complete("bash", "scriptc li", 1) == "plain,lint\n"
     assert complete("bash", "scriptc c", 1).split() == [
@@ -119,6 +121,7 @@ def test_completing_a_verb() -> None:
     assert complete("fish", "scriptc li", "li") == f"plain,lint\t{VERBS['lint'][1]}\n"
 
 
+@pytest.mark.slow
 def test_completing_options_and_their_choices(tmp_path: Path) -> None:
     assert complete("bash", "scriptc lint --for", 2).split() == [
         "plain,--format", "plain,--force-exclude"]
@@ -310,6 +313,7 @@ class Watcher:
                 self.proc.kill()
 
 
+@pytest.mark.slow
 def test_watch_lints_again_on_change_and_stops_at_ctrl_c(tmp_path: Path) -> None:
     (tmp_path / "a.script").write_text(CLEAN, encoding="utf-8")
     watcher = Watcher(tmp_path, ".", "--format", "grouped")
@@ -334,6 +338,7 @@ def test_watch_lints_again_on_change_and_stops_at_ctrl_c(tmp_path: Path) -> None
     assert "Traceback" not in "".join(list(watcher.err.queue))
 
 
+@pytest.mark.slow
 def test_watch_follows_a_named_file_across_atomic_saves(tmp_path: Path) -> None:
     # Editors (and --fix) save by renaming a new file over the old one: a watch on the file
     # itself would go blind after the first save, so its folder is watched.

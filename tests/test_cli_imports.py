@@ -44,6 +44,7 @@ def folder(tmp_path: Path) -> Path:
     return tmp_path
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("args", [
     ["lint", "a.script"],
     ["lint", "b.script"],  # with errors to render
@@ -64,6 +65,7 @@ def test_version_and_help_do_not_load_the_compiler(folder: Path) -> None:
         assert not loaded & {"lark", *HEAVY}, loaded & {"lark", *HEAVY}
 
 
+@pytest.mark.slow
 def test_colour_on_demand_loads_rich_only_for_markdown(folder: Path) -> None:
     """Diagnostics are coloured without rich (the renderer writes ANSI codes itself); the
     probe can tell, since an explanation's markdown in colour does import it."""

@@ -7,12 +7,16 @@ import json
 from pathlib import Path
 
 from click.testing import CliRunner
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from scriptc.cli.main import cli
 from strategies import scripts
 from test_properties import JUNK
+
+# Property tests over generated input: the slow tier (CONTRIBUTING.md).
+pytestmark = pytest.mark.slow
 
 FAST = settings(max_examples=60, deadline=None,
                 suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])

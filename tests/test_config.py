@@ -436,6 +436,7 @@ def _modules(args: list[str], cwd: Path) -> set[str]:
     return set(json.loads(done.stderr[done.stderr.rindex("MODULES ") + 8:]))
 
 
+@pytest.mark.slow
 def test_jsonschema_is_imported_only_when_the_configuration_changed(tmp_path: Path) -> None:
     (tmp_path / "scriptc.toml").write_text('[lint]\nignore = ["F003"]\n')
     (tmp_path / "a.script").write_text("[a]\n[goal:g]\n[action]\n[b##blk_inst: MV() LD() AO()]\n")

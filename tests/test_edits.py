@@ -118,6 +118,7 @@ def test_the_minimal_edit_turns_old_into_new_and_keeps_the_common_ends(
 spans = st.tuples(st.integers(0, 8), st.integers(0, 8)).map(lambda p: Span(min(p), max(p)))
 
 
+@pytest.mark.slow
 @given(st.lists(st.tuples(spans, st.text("XY", max_size=2)), max_size=6))
 def test_fixes_that_can_go_together_apply_as_one_change_in_any_order(
         pairs: list[tuple[Span, str]]) -> None:

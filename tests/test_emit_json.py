@@ -213,6 +213,7 @@ def test_empty_containers_keep_the_layout() -> None:
 # -- size -------------------------------------------------------------------------------------
 
 
+@pytest.mark.slow
 def test_ten_thousand_blocks_emit_quickly() -> None:
     """A smoke test against quadratic behaviour; bench figures are in the report (typically
     0.05-0.1 s here). The bound is loose because CI machines are shared."""

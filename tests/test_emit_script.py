@@ -217,6 +217,7 @@ def scripts(draw) -> ir.Script:
     return ir.Script(ir.Name(draw(NAME), S), alfa, omega, tuple(goals), S)
 
 
+@pytest.mark.slow
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(scripts())
 def test_script_text_round_trip(script: ir.Script) -> None:
@@ -224,6 +225,7 @@ def test_script_text_round_trip(script: ir.Script) -> None:
     assert emit_json(lower(format_script(script))) == emit_json(script)
 
 
+@pytest.mark.slow
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(scripts())
 def test_json_round_trip(script: ir.Script) -> None:
@@ -237,6 +239,7 @@ def test_json_round_trip(script: ir.Script) -> None:
     assert emit_json(lower(format_script(back))) == out
 
 
+@pytest.mark.slow
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(scripts())
 def test_printed_and_decompiled_scripts_are_already_formatted(script: ir.Script) -> None:

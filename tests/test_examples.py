@@ -270,6 +270,7 @@ def test_whole_scripts_in_the_guides_are_clean_and_formatted(doc: str, tmp_path:
         assert json.loads(result.stdout) == [], block
 
 
+@pytest.mark.slow
 def test_the_tutorial_works_as_written(tmp_path: Path, monkeypatch) -> None:
     pytest.importorskip("matplotlib")
     monkeypatch.chdir(tmp_path)

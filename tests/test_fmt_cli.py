@@ -153,6 +153,7 @@ def test_no_scripts_found_warns(tree: Path) -> None:
     assert "no script files found" in result.stderr
 
 
+@pytest.mark.slow
 def test_real_process_pipes_bytes(tmp_path: Path) -> None:
     data = MESSY.replace("\n", "\r\n").encode()
     done = subprocess.run([sys.executable, "-m", "scriptc", "fmt", "-"], input=data,

@@ -11,6 +11,7 @@ from __future__ import annotations
 import random
 import re
 
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -24,6 +25,9 @@ from scriptc.syntax.parser import parse_items
 from scriptc.syntax.scan import scan
 from strategies import scripts
 from test_properties import JUNK, PIECES
+
+# Property tests over generated input: the slow tier (CONTRIBUTING.md).
+pytestmark = pytest.mark.slow
 
 FAST = settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 

@@ -25,6 +25,7 @@ def mutated(draw, kind: str) -> tuple[str, bytes]:
     return name, fuzzing.mutate(seed, lambda lo, hi: draw(st.integers(lo, hi)), SCALE)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("entry", sorted(fuzzing.ENTRIES))
 def test_every_entry_point_holds_its_laws_on_mutated_examples(entry: str) -> None:
     @settings(max_examples=EXAMPLES_PER_ENTRY, deadline=None, database=None,

@@ -94,6 +94,7 @@ def _registers(name: str) -> bool:
     return True
 
 
+@pytest.mark.slow
 @FAST
 @given(CANDIDATES)
 @example("aé")
@@ -180,6 +181,7 @@ VALUES = st.one_of(st.sampled_from([0, 0.0, 1, 1.0, -1, 0.5, 2, 1e-9, 1.0000001]
                    st.floats(min_value=-3, max_value=3, allow_nan=False))
 
 
+@pytest.mark.slow
 @FAST
 @given(st.sampled_from(LIMITS), VALUES)
 def test_the_checks_and_the_loader_keep_one_range(limit, value) -> None:

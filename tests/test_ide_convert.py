@@ -166,6 +166,7 @@ def test_completion_json():
     assert without["items"][0]["textEdit"]["newText"] == "goal:" and "insertTextFormat" not in without["items"][0]
 
 
+@pytest.mark.slow
 def test_the_editor_api_does_not_import_the_protocol():
     import subprocess
     import sys

@@ -180,6 +180,7 @@ def test_the_local_hooks_are_the_manifests_hooks(scaffold: Path) -> None:
                 assert hook.get(key, False) == published[hook["id"]].get(key, False), key
 
 
+@pytest.mark.packaging
 def test_the_local_hooks_run_in_pre_commit(scaffold: Path, tmp_path: Path) -> None:
     """pre-commit itself runs the scaffold's hooks (no download: `language: system`): clean
     scripts pass; a script out of layout is rewritten and fails the run."""

@@ -147,6 +147,7 @@ def test_mujoco_steps_in_chunks_that_change_nothing_and_an_interruption_cuts() -
     assert robot.pose().x == pytest.approx(0.2 * chunk_ms / 1000, rel=1e-3)
 
 
+@pytest.mark.slow
 def test_a_mujoco_session_stops_within_the_long_physics_of_one_interval() -> None:
     """The only instants are 0 ms and the ends of the LED command and of the move; the request
     comes while the physics is stepped towards the move's end: the session ends there, at the
@@ -176,6 +177,7 @@ def _mapped(pid: int, library: str) -> bool:
         return False
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(sys.platform != "linux", reason="reads /proc/PID/maps to see MuJoCo loaded")
 def test_ctrl_c_stops_scriptc_run_on_mujoco_at_once_with_its_trace(tmp_path: Path) -> None:
     """A real `scriptc run` on MuJoCo with a long `--until`, a real SIGINT once the run has

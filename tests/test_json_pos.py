@@ -100,6 +100,7 @@ def test_error_labels() -> None:
     assert caught.value.labels == ((Span(1, 4), "first defined here"),)
 
 
+@pytest.mark.slow
 def test_deep_nesting_does_not_recurse() -> None:
     depth = 20_000
     root = parse_json("[" * depth + "]" * depth)
@@ -144,6 +145,7 @@ JSON_VALUES = st.recursive(
 )
 
 
+@pytest.mark.slow
 @settings(max_examples=200, deadline=None)
 @given(JSON_VALUES, st.booleans(), st.booleans())
 def test_agrees_with_the_json_module(value, ascii_only: bool, indent: bool) -> None:

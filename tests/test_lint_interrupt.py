@@ -66,6 +66,7 @@ def wait_for(condition, timeout: float = 60.0) -> None:
         time.sleep(0.02)
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(not os.path.isdir("/proc"), reason="reads /proc (Linux)")
 @pytest.mark.parametrize("jobs, to_group", [(2, True), (2, False), (1, True)])
 def test_ctrl_c_stops_lint_cleanly(folder: Path, tmp_path: Path, jobs: int,

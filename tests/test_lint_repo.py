@@ -147,6 +147,7 @@ def test_a_changed_file_or_configuration_is_analysed_again(project: Path) -> Non
     assert "from the cache" not in run("lint", ".").stderr
 
 
+@pytest.mark.slow
 def test_the_policy_is_applied_after_the_cache(project: Path, monkeypatch) -> None:
     # Two files with the same content are analysed once and share one cache entry; the
     # per-file policy still differs.

@@ -51,6 +51,7 @@ def field_by_field(text: str, monkeypatch: pytest.MonkeyPatch):
         return lowered(text)
 
 
+@pytest.mark.slow
 @FAST
 @given(blocks())
 def test_one_match_reads_as_field_by_field(text: str) -> None:

@@ -37,6 +37,7 @@ def run(files: Path, out: str):
                               catch_exceptions=False)
 
 
+@pytest.mark.slow
 def test_png(files: Path) -> None:
     result = run(files, "run.png")
     assert result.exit_code == 0, result.output
@@ -44,6 +45,7 @@ def test_png(files: Path) -> None:
     assert data.startswith(b"\x89PNG") and len(data) > 10_000
 
 
+@pytest.mark.slow
 def test_svg_draws_led_colours(files: Path) -> None:
     result = run(files, "run.svg")
     assert result.exit_code == 0, result.output
@@ -136,6 +138,7 @@ def _known(world: dict) -> set[str]:
     return ids
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["greeting", "joint_attention", "imitation", "turn_taking",
                                   "reward_dance", "approach"])
 def test_every_entity_of_every_example_is_drawn_and_labelled(name, tmp_path, monkeypatch) -> None:
@@ -153,6 +156,7 @@ def test_every_entity_of_every_example_is_drawn_and_labelled(name, tmp_path, mon
     assert bottom.get_xlabel() == "time (s)" and bottom.get_ylabel() == "track"
 
 
+@pytest.mark.slow
 def test_the_greetings_child_is_where_the_robot_was_told(tmp_path, monkeypatch) -> None:
     """examples/greeting.world.json sends the child's distance and bearing at 2 s and 3 s; the
     robot stands at the origin facing +x until then, so the path is those polar points."""

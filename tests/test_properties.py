@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -11,6 +12,9 @@ from scriptc.diagnostics.model import Severity
 from scriptc.analysis.analyze import analyze_script
 from scriptc.source import SourceFile
 from strategies import conditions, scripts
+
+# Property tests over generated input: the slow tier (CONTRIBUTING.md).
+pytestmark = pytest.mark.slow
 
 FAST = settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 

@@ -10,6 +10,7 @@ import json
 import subprocess
 import sys
 
+import pytest
 from lsprotocol import types as lsp
 
 from scriptc.server import pyglsshim
@@ -181,6 +182,7 @@ except SystemExit:
 """
 
 
+@pytest.mark.slow
 def test_the_stdio_loop_over_a_pipe() -> None:
     """`pygls.io_` (`StdoutWriter`, `run_async`), `LanguageServer._stop_event`,
     `protocol.set_writer`, `thread_pool`, `report_server_error`: a session over a pipe, from

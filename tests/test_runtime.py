@@ -91,6 +91,7 @@ def test_jump_on_a_child_closer_than_1_m(world, branch: str, x: float) -> None:
     assert result.time_ms == 2000
 
 
+@pytest.mark.slow
 def test_two_runs_write_identical_traces(tmp_path: Path) -> None:
     """Two processes with different hash seeds: the same bytes (rules, aliases, overrides)."""
     import os

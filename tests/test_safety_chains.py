@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import time
 
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -138,6 +139,7 @@ def k002(text: str) -> list:
     return [d for d in check_safety(Context(analysis.script, analysis.source)) if d.code == "K002"]
 
 
+@pytest.mark.slow
 @FAST
 @given(st.lists(BLOCKS, min_size=2, max_size=7))
 def test_the_check_agrees_with_every_path(blocks) -> None:
@@ -148,6 +150,7 @@ def test_the_check_agrees_with_every_path(blocks) -> None:
     assert len(commands) == len(set(commands)), "one report per LED command at most"
 
 
+@pytest.mark.slow
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(scripts())
 def test_the_check_ends_on_any_script(text: str) -> None:
@@ -194,6 +197,7 @@ def test_a_cycle_of_blocks_that_take_no_time_ends() -> None:
     assert k002(text) == []
 
 
+@pytest.mark.slow
 def test_a_long_flashing_chain_is_reported_once_per_second() -> None:
     """10,000 blocks of 10 ms, each lit 5 ms (100 Hz): one report per second of blocks, and
     fast."""
@@ -208,6 +212,7 @@ def test_a_long_flashing_chain_is_reported_once_per_second() -> None:
     assert elapsed < 5, elapsed  # about 0.2 s on the reference machine
 
 
+@pytest.mark.slow
 def test_a_branching_ladder_stays_linear() -> None:
     """Short blocks with a flash every 12th and jumps skipping up to 5 ahead: the fastest
     path is found without following every path."""
@@ -244,6 +249,7 @@ def test_a_spent_budget_still_reports(monkeypatch) -> None:
 # -- the check and the run-time governor agree -------------------------------------------------
 
 
+@pytest.mark.slow
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(st.lists(BLOCKS, min_size=2, max_size=7))
 def test_what_k002_lets_through_the_governor_never_holds(blocks) -> None:

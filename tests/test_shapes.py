@@ -69,6 +69,7 @@ def test_the_trees_are_larks_in_any_order() -> None:
     agree(ShapeParser(script_lark(), "item"), script_lark(), texts[::-1])
 
 
+@pytest.mark.slow
 @FAST
 @given(scripts())
 def test_generated_scripts(text: str) -> None:
@@ -81,6 +82,7 @@ def test_junk_items_fail_as_lark_does(text: str) -> None:
     agree(ShapeParser(script_lark(), "item"), script_lark(), ["[" + text + "]", text])
 
 
+@pytest.mark.slow
 @FAST
 @given(st.lists(conditions(), min_size=1, max_size=4))
 def test_conditions(texts: list[str]) -> None:

@@ -15,6 +15,8 @@ import shutil
 import subprocess
 from pathlib import Path
 
+import pytest
+
 from scriptc.project.files import SCRIPT_SUFFIX
 
 VSCODE = Path(__file__).parent.parent / "lsp" / "vscode"
@@ -40,6 +42,7 @@ def test_language_configuration_knows_brackets_and_percent_comments() -> None:
     assert config["brackets"] == [["[", "]"], ["(", ")"], ["{", "}"]]
 
 
+@pytest.mark.packaging
 def test_vsix_builds_and_grammar_tests_pass() -> None:
     assert shutil.which("node") and shutil.which("npm"), "Node.js and npm are needed (docs/editors.md)"
     done = subprocess.run(["bash", str(VSCODE / "scripts" / "check.sh")], capture_output=True,

@@ -279,6 +279,7 @@ FUZZ_WORLD = {"updates": [
     for t in range(0, 6000, 500) for k in range(3)]}
 
 
+@pytest.mark.slow
 def test_the_vm_never_crashes_on_a_verified_program() -> None:
     """Compiled programs with operands swapped for other valid values (which codegen would
     never write: calls to functions of the wrong kind or arity, unknown classes, aliases

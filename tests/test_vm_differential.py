@@ -12,6 +12,7 @@ Only scripts that pass the checker count (the others never run); each run is bou
 
 from __future__ import annotations
 
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -24,6 +25,9 @@ from scriptc.runtime.session import Session
 from scriptc.runtime.trace import Trace
 from scriptc.runtime.vm import VMProgram
 from strategies import conditions, scripts
+
+# Property tests over generated input: the slow tier (CONTRIBUTING.md).
+pytestmark = pytest.mark.slow
 
 UNTIL = 20_000
 

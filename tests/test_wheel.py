@@ -14,9 +14,12 @@ import sysconfig
 import zipfile
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).parent.parent
 
 
+@pytest.mark.packaging
 def test_wheel_ships_data_and_runs_anywhere(tmp_path: Path) -> None:
     wheels = tmp_path / "wheels"
     subprocess.run(

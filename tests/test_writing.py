@@ -179,6 +179,7 @@ def test_a_socket_is_sent_the_data(tmp_path: Path) -> None:
     assert stat.S_ISSOCK(os.lstat(path).st_mode)
 
 
+@pytest.mark.slow
 def test_the_name_of_a_descriptor_is_written_to(here: Path) -> None:
     """`-o /dev/stdout`: to whatever stdout is open on, a pipe or a file the shell opened to
     append to (never replaced: what was in it stays)."""
@@ -294,6 +295,7 @@ def test_a_failed_write_leaves_the_old_file(here: Path) -> None:
     assert leftovers(here) == []
 
 
+@pytest.mark.slow
 def test_a_failed_plot_leaves_the_old_picture(here: Path) -> None:
     (here / "run.png").write_bytes(b"old picture")
     result = scriptc("run", "clean.script", "--robot", "kinematic", "--plot", "run.png",
