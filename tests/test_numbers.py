@@ -68,6 +68,12 @@ def test_whole_numbers_are_never_converted_beyond_the_policy() -> None:
     assert whole_number("1" * 100_000) is None  # int() would raise: 4,300 digits at most
 
 
+@pytest.mark.parametrize("text", ["0", "7", "0007", "500", "9" * 18, "9" * 19, "0" * 30 + "5",
+                                  "-0", "+12", "-0012"])
+def test_whole_numbers_of_any_length_read_as_int_does(text: str) -> None:
+    assert whole_number(text) == int(text)
+
+
 def test_shown_cuts_long_numbers() -> None:
     assert shown("12.5") == "`12.5`"
     assert shown("1" * 50) == "`1111111111...111111` (50 digits)"

@@ -101,6 +101,8 @@ def whole_number(text: str) -> int | None:
     has more digits than any number the policy accepts (so no caller converts a 5,000-digit
     text: Python refuses beyond 4,300 digits, leading zeros included, which are dropped
     here: `000...0001` of a million digits is 1)."""
+    if len(text) < 19 and text.isdigit() and text.isascii():
+        return int(text)  # the common case: a few digits, no sign
     sign = "-" if text.startswith("-") else ""
     digits = text.lstrip("+-").lstrip("0") or "0"
     if len(digits) > MAX_DIGITS:

@@ -14,7 +14,7 @@ from functools import cached_property
 from scriptc.diagnostics.model import Fix, TextEdit
 from scriptc.ir.builtins import STANDARD, FunctionRegistry
 from scriptc.robot.profile import DEFAULT_PROFILE, Profile
-from scriptc.ir.nodes import Block, JumpBlock, Name, Script
+from scriptc.ir.nodes import Block, InstructionBlock, JumpBlock, Name, Script
 from scriptc.source import SourceFile, SourceKind, Span
 
 
@@ -68,6 +68,13 @@ class Context:
             else:
                 duplicates.append((label, first))
         return LabelTable(index, names, tuple(duplicates))
+
+    @cached_property
+    def durations(self) -> list[int | None]:
+        """How long each block runs, in execution order: an instruction block's
+        `duration_ms` (None when a time is not a whole number), 0 for the other blocks, which
+        take no time. Computed once: flow (F002) and safety (K002, K003) read it."""
+        return [b.duration_ms if isinstance(b, InstructionBlock) else 0 for b in self.blocks]
 
     @cached_property
     def jumps(self) -> list[tuple[int, JumpBlock]]:

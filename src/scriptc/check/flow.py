@@ -208,7 +208,7 @@ def _cycles(ctx: Context, succ: list[tuple[int, ...]], out: list[Diagnostic]) ->
     # entered, repeats the same decisions forever. An instruction block that takes no time
     # (`MV() LD() AO()`, or only zero waits and durations) is consumed in the same millisecond
     # it is issued, so it does not let time pass either.
-    keep = [not isinstance(b, InstructionBlock) or b.duration_ms == 0 for b in blocks]
+    keep = [duration == 0 for duration in ctx.durations]
     nodes = [i for i, k in enumerate(keep) if k]
     for component in strongly_connected(nodes, succ, keep):
         if len(component) == 1:

@@ -105,8 +105,8 @@ class _Moves:
         return found
 
 
-def _read(index: int, block: InstructionBlock, profile: Profile) -> _Moves | None:
-    length = block.duration_ms
+def _read(index: int, block: InstructionBlock, length: int | None,
+          profile: Profile) -> _Moves | None:
     if not length or length < 0:
         return None
     moves, starts = [], []
@@ -138,13 +138,13 @@ def _at_rest(entry: Entry) -> bool:
 
 def check_ramps(ctx: Context, profile: Profile, out: list[Diagnostic]) -> None:
     blocks = ctx.blocks
-    reads = [_read(i, b, profile) if isinstance(b, InstructionBlock) else None
+    durations = ctx.durations
+    reads = [_read(i, b, durations[i], profile) if isinstance(b, InstructionBlock) else None
              for i, b in enumerate(blocks)]
     if not blocks or not any(r is not None and r.block.moves for r in reads):
         return  # nothing moves
     rates = rates_of(profile)
-    timed = [r is not None or (isinstance(b, InstructionBlock) and b.duration_ms != 0)
-             for r, b in zip(reads, blocks)]
+    timed = [r is not None or duration != 0 for r, duration in zip(reads, durations)]
     succ = successors(ctx)[0]
     exits: dict[int, list[tuple[int, int]]] = {}
     runs: dict[tuple[int, tuple], BlockRun] = {}

@@ -124,10 +124,9 @@ class _Track:
         return bool(self.times) and self.times[0] == 0
 
 
-def _track(block: InstructionBlock) -> _Track | None:
-    """The block's LED track, or None when the block takes no time (control passes through
-    it in the same millisecond, as through a jump)."""
-    duration = block.duration_ms
+def _track(block: InstructionBlock, duration: int | None) -> _Track | None:
+    """The block's LED track (the block lasts `duration`), or None when the block takes no
+    time (control passes through it in the same millisecond, as through a jump)."""
     if duration == 0:
         return None
     if duration is not None and duration < 0:
@@ -185,7 +184,8 @@ class _Timeline:
         self.ctx = ctx
         self.blocks = ctx.blocks
         self._succ: tuple[list[tuple[int, ...]], bool] | None = None
-        self.tracks = [_track(b) if isinstance(b, InstructionBlock) else None for b in self.blocks]
+        self.tracks = [_track(b, d) if isinstance(b, InstructionBlock) else None
+                       for b, d in zip(self.blocks, ctx.durations)]
         self.timed = [track is not None for track in self.tracks]
         self.limit = profile.max_led_flash_rate
         self._exits: dict[int, list[tuple[int, int]]] = {}
