@@ -19,7 +19,6 @@ from enum import StrEnum
 from functools import cached_property
 from typing import NamedTuple
 
-
 _LINE_BREAK = re.compile(r"\r\n|\r|\n")
 
 

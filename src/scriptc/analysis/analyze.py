@@ -34,7 +34,7 @@ class Analysis:
     A plain class, not a dataclass: `scriptc lint` imports it on every run, and generating
     a dataclass's methods costs milliseconds of its cold start."""
 
-    __slots__ = ("source", "script", "diagnostics", "suppressed")
+    __slots__ = ("diagnostics", "script", "source", "suppressed")
 
     def __init__(self, source: SourceFile, script: Script | None,
                  diagnostics: list[Diagnostic] | None = None,

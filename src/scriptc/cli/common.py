@@ -186,7 +186,12 @@ def lint_report(paths: tuple[str, ...], kind: SourceKind, format_: str, stdin_na
     the diagnostics; `options.diff` the unified diff of what the fixes would change instead
     (status 1 when there is one); `exit_zero` turns status 1 into 0."""
     from scriptc.analysis.read import ReadError
-    from scriptc.diagnostics.render import diff_summary, lint_summary, plural, render_statistics
+    from scriptc.diagnostics.render import (
+        diff_summary,
+        lint_summary,
+        plural,
+        render_statistics,
+    )
     from scriptc.ops import lint
     from scriptc.source import SourceKind
 
@@ -280,8 +285,12 @@ class Progress:
             return
         if self._bar is None:
             from rich.console import Console
-            from rich.progress import BarColumn, MofNCompleteColumn, TextColumn, \
-                TimeRemainingColumn
+            from rich.progress import (
+                BarColumn,
+                MofNCompleteColumn,
+                TextColumn,
+                TimeRemainingColumn,
+            )
             from rich.progress import Progress as Bar
 
             # No refresh thread (auto_refresh off, refreshed on each update): worker

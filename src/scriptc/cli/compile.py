@@ -12,8 +12,15 @@ from __future__ import annotations
 
 import click
 
-from scriptc.cli.common import (CliError, check_output, load, refuse_overwriting_input, show,
-                                stdin_name_option, write_output)
+from scriptc.cli.common import (
+    CliError,
+    check_output,
+    load,
+    refuse_overwriting_input,
+    show,
+    stdin_name_option,
+    write_output,
+)
 from scriptc.ops.build import EMITTERS, default_output, emit
 from scriptc.source import SourceKind
 

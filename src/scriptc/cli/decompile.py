@@ -10,8 +10,14 @@ from __future__ import annotations
 
 import click
 
-from scriptc.cli.common import (check_output, load, refuse_overwriting_input, show,
-                                stdin_name_option, write_output)
+from scriptc.cli.common import (
+    check_output,
+    load,
+    refuse_overwriting_input,
+    show,
+    stdin_name_option,
+    write_output,
+)
 from scriptc.ops.build import decompile
 from scriptc.source import SourceKind
 

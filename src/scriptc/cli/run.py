@@ -23,8 +23,16 @@ import os
 import click
 
 from scriptc import interrupt
-from scriptc.cli.common import (CliError, check_output, configured, show,
-                                stop_for_configuration, write, write_bytes, write_output)
+from scriptc.cli.common import (
+    CliError,
+    check_output,
+    configured,
+    show,
+    stop_for_configuration,
+    write,
+    write_bytes,
+    write_output,
+)
 from scriptc.ops.programs import EXECUTORS
 
 
@@ -115,7 +123,11 @@ def command(ctx: click.Context, files: tuple[str, ...], world: str | None, until
         show([a for a in loaded.analyses if a.diagnostics], err=True)
     if not loaded.ok:
         ctx.exit(1)
-    from scriptc.runtime.configured import ConfiguredError, implementations_for, rules_for
+    from scriptc.runtime.configured import (
+        ConfiguredError,
+        implementations_for,
+        rules_for,
+    )
 
     # One session, one robot: the repository of the first file gives the functions and rules
     # that run (imported now: linting never imports them) and the safety governor's profile.

@@ -43,12 +43,12 @@ from dataclasses import dataclass
 
 from scriptc.analysis.analyze import Analysis, finish
 from scriptc.diagnostics.model import Diagnostic
+from scriptc.frontend import script as _lower
 from scriptc.gcpause import gc_paused
 from scriptc.ide.pads import IDENTITY, Layout
-from scriptc.ir.shift import shift
-from scriptc.frontend import script as _lower
 from scriptc.ir.builtins import STANDARD, FunctionRegistry
 from scriptc.ir.nodes import Script
+from scriptc.ir.shift import shift
 from scriptc.source import SourceFile, Span
 from scriptc.syntax import parser as _parser
 from scriptc.syntax import scan as _scan
@@ -80,7 +80,7 @@ class IncrementalAnalysis(Analysis):
     the analysis text; `layout` converts them to offsets of `real`, the document's text (see
     scriptc.ide.pads)."""
 
-    __slots__ = ("scan", "parsed", "stats", "layout", "real")
+    __slots__ = ("layout", "parsed", "real", "scan", "stats")
 
     def __init__(self, source: SourceFile, scan: Scan, parsed: ParsedScript,
                  script: Script | None, diagnostics: list[Diagnostic],

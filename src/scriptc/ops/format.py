@@ -53,7 +53,7 @@ class FileFormat:
     REFORMATTED = "reformatted"
     UNWRITTEN = "unwritten"
 
-    __slots__ = ("path", "name", "status", "error", "analysis", "old", "new", "stdout")
+    __slots__ = ("analysis", "error", "name", "new", "old", "path", "status", "stdout")
 
     def __init__(self, path: str, name: str, status: str, *, error: str = "",
                  analysis: Analysis | None = None, old: str = "", new: str = "",

@@ -35,8 +35,14 @@ from scriptc.project.setup import Setup, function_registry
 from scriptc.source import SourceFile, SourceKind
 from scriptc.writing import WriteError, encode_like, write_file
 
-__all__ = ["FileReport", "LintOptions", "LintRun", "MAX_FIX_ROUNDS", "available_cores",
-           "lint_paths"]
+__all__ = [
+    "MAX_FIX_ROUNDS",
+    "FileReport",
+    "LintOptions",
+    "LintRun",
+    "available_cores",
+    "lint_paths",
+]
 
 
 class LintOptions:
@@ -72,7 +78,7 @@ class FileReport(Analysis):
     fixes `--fix` applied to it (or, with `diff`, would apply), and `fixed_text`, the text
     `--fix` would write, when `diff` asked for it and it differs."""
 
-    __slots__ = ("path", "cached", "fixed", "fixed_text")
+    __slots__ = ("cached", "fixed", "fixed_text", "path")
 
     def __init__(self, source: SourceFile, diagnostics: list[Diagnostic], path: str = "",
                  cached: bool = False, fixed: int = 0, fixed_text: str | None = None) -> None:
@@ -282,7 +288,7 @@ class _Entry:
     its source (and the P007 problem when its bytes are not text), its setup and its key in
     the cache."""
 
-    __slots__ = ("path", "name", "data", "source", "problem", "setup", "key")
+    __slots__ = ("data", "key", "name", "path", "problem", "setup", "source")
 
     def __init__(self, path: str, name: str, data: bytes, setup: Setup,
                  key: str | None) -> None:

@@ -22,9 +22,18 @@ from scriptc.project.setup import Setup, setup_for
 from scriptc.runtime.loading import LoadError
 from scriptc.source import SourceKind
 
-__all__ = ["EXECUTORS", "ConfigurationFailed", "DEFAULT_LIMIT_MS", "Loaded", "ProgramLoader",
-           "Refused", "bytecode_program", "checked_program", "governed_by_default",
-           "load_programs"]
+__all__ = [
+    "DEFAULT_LIMIT_MS",
+    "EXECUTORS",
+    "ConfigurationFailed",
+    "Loaded",
+    "ProgramLoader",
+    "Refused",
+    "bytecode_program",
+    "checked_program",
+    "governed_by_default",
+    "load_programs",
+]
 
 # How `.script` and `.json` files run: compiled to bytecode for the VM, or read from the IR
 # by the reference interpreter (for comparison). `.scb` files always run on the VM.

@@ -40,7 +40,7 @@ class Setup:
     `profile`, and `problems`: the configuration files that have diagnostics (each with its
     `source` and `diagnostics`, as a renderer reads them), empty when there are none."""
 
-    __slots__ = ("settings", "signatures", "functions", "profile", "problems")
+    __slots__ = ("functions", "problems", "profile", "settings", "signatures")
 
     def __init__(self, settings: Any, problems: Sequence[Any] = ()) -> None:
         self.settings = settings

@@ -57,13 +57,26 @@ import sys
 from lsprotocol import types as lsp
 
 from scriptc import __version__
-from scriptc.ide import actions, completion, formatting, hints, hover, navigation, outline, tokens
+from scriptc.ide import (
+    actions,
+    completion,
+    formatting,
+    hints,
+    hover,
+    navigation,
+    outline,
+    tokens,
+)
+from scriptc.ide.answers import RenameError
 from scriptc.ide.document import Document, configured_document
 from scriptc.project.config.load import CONFIG_FILES
-from scriptc.ide.answers import RenameError
 from scriptc.server import convert
-from scriptc.server.pyglsshim import (JsonRpcException, JsonRpcInternalError, LanguageServer,
-                                      serve_stdio)
+from scriptc.server.pyglsshim import (
+    JsonRpcException,
+    JsonRpcInternalError,
+    LanguageServer,
+    serve_stdio,
+)
 from scriptc.server.pyglsshim import Protocol as PyglsProtocol
 
 log = logging.getLogger("scriptc.server")
@@ -431,7 +444,7 @@ class At:
     for a feature of the text alone: formatting), the `positions` converter of the text the
     feature works on, and the `offset` of the request's position (None without one)."""
 
-    __slots__ = ("document", "snapshot", "positions", "offset")
+    __slots__ = ("document", "offset", "positions", "snapshot")
 
     def __init__(self, document: Document, snapshot, positions, offset: int | None) -> None:
         self.document = document
