@@ -72,10 +72,11 @@ def finish(source: SourceFile, script: Script | None, front: list[Diagnostic], *
     # Semantic checks run on a script whose front end reported no error: a broken item would
     # otherwise cascade into reports about labels and flow that are not the user's mistake
     # (docs/language.md, "Error recovery").
-    checked = script is not None and not has_errors(front)
-    if checked:
+    checked = False
+    if script is not None and not has_errors(front):
         from scriptc.check import check_script
 
+        checked = True
         diagnostics.extend(check_script(script, source, functions=functions, profile=profile,
                                         kind=kind))
     diagnostics.sort(key=Diagnostic.sort_key)

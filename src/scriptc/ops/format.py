@@ -129,23 +129,26 @@ class FormatRun:
         # whose stdout is the list or the diff).
         echo = data if stdin and not self.dry else None
         source, problem = decode_source(name, data)
-        result = None if problem is not None else format_text(source.text)
-        if result is None or result.refused:
-            diagnostics = [problem] if problem is not None else result.diagnostics
+        if problem is not None:
             return FileFormat(path, name, FileFormat.REFUSED, old=source.text,
-                              analysis=Analysis(source, None, diagnostics), stdout=echo)
-        new = encode_like(result.text, data)
+                              analysis=Analysis(source, None, [problem]), stdout=echo)
+        result = format_text(source.text)
+        if result.refused or result.text is None:
+            return FileFormat(path, name, FileFormat.REFUSED, old=source.text,
+                              analysis=Analysis(source, None, result.diagnostics), stdout=echo)
+        formatted = result.text
+        new = encode_like(formatted, data)
         if new == data:
             return FileFormat(path, name, FileFormat.UNCHANGED, old=source.text,
-                              new=result.text, stdout=echo)
+                              new=formatted, stdout=echo)
         if self.dry:
-            return FileFormat(path, name, FileFormat.CHANGED, old=source.text, new=result.text)
+            return FileFormat(path, name, FileFormat.CHANGED, old=source.text, new=formatted)
         if stdin:
             return FileFormat(path, name, FileFormat.REFORMATTED, old=source.text,
-                              new=result.text, stdout=new)
+                              new=formatted, stdout=new)
         try:
             write_file(path, new)
         except WriteError as exc:
             return FileFormat(path, name, FileFormat.UNWRITTEN, error=str(exc),
-                              old=source.text, new=result.text)
-        return FileFormat(path, name, FileFormat.REFORMATTED, old=source.text, new=result.text)
+                              old=source.text, new=formatted)
+        return FileFormat(path, name, FileFormat.REFORMATTED, old=source.text, new=formatted)

@@ -365,7 +365,7 @@ def lint_paths(paths: list[str] | tuple[str, ...], kind: SourceKind = SourceKind
 
     if cache is not None:
         for i, entry in enumerate(entries):
-            found[i] = cache.get_result(entry.key)
+            found[i] = cache.get_result(entry.key) if entry.key is not None else None
         run.cached = sum(1 for f in found if f is not None)
         finished = run.cached
         tick()
@@ -390,8 +390,9 @@ def lint_paths(paths: list[str] | tuple[str, ...], kind: SourceKind = SourceKind
         nonlocal finished
         for k in same[i]:
             found[k] = diagnostics
-        if cache is not None:
-            cache.put_result(entries[i].key, diagnostics)
+        key = entries[i].key
+        if cache is not None and key is not None:
+            cache.put_result(key, diagnostics)
         finished += len(same[i])
         tick()
 
@@ -411,7 +412,8 @@ def lint_paths(paths: list[str] | tuple[str, ...], kind: SourceKind = SourceKind
     reports: list[FileReport] = []
     for i, entry in enumerate(entries):
         shown = None if entry.path == "-" and stdin_name == "<stdin>" else entry.name
-        report = FileReport(entry.source, entry.setup.apply(found[i], shown), entry.path,
+        # Every file has its diagnostics by now: from the cache, a worker or its decoding.
+        report = FileReport(entry.source, entry.setup.apply(found[i] or [], shown), entry.path,
                             cached=i in hits)
         fixing = options.diff or (options.fix and entry.path != "-")
         if fixing and report.fixes(options.unsafe_fixes):

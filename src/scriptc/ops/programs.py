@@ -83,11 +83,14 @@ def checked_program(analysis: Analysis, path: str, executor: str = "vm") -> Any:
     """The runtime program of a checked script: compiled to bytecode in memory, verified (as
     a `.scb` file is once decoded) and run by the VM; or, with the `ir`
     executor, read from the IR by the reference interpreter. Raises Refused when the script
-    cannot be compiled to bytecode."""
+    cannot be compiled to bytecode (or was not read at all)."""
+    script = analysis.script
+    if script is None:
+        raise Refused(f"`{path}` could not be read into a script")
     if executor == "ir":
         from scriptc.runtime.interp import IRProgram
 
-        return IRProgram(analysis.script, path)
+        return IRProgram(script, path)
     from scriptc.bytecode import InvalidError, verify
     from scriptc.emit.codegen import CodegenError, codegen
     from scriptc.runtime import vm
@@ -96,7 +99,7 @@ def checked_program(analysis: Analysis, path: str, executor: str = "vm") -> Any:
     # be decoded back into the same program (tests/test_bytecode.py holds the round trip).
     try:
         with gc_paused():
-            verified = verify(codegen(analysis.script, analysis.source))
+            verified = verify(codegen(script, analysis.source))
     except (CodegenError, InvalidError) as exc:  # only for what the checks let through
         raise Refused(f"`{path}` cannot be compiled to bytecode: {exc} (`--executor ir` "
                       "runs it)") from None
