@@ -32,9 +32,11 @@ from scriptc.ir.nodes import (
     FieldRef,
     FieldTest,
     Name,
-    Value,
+    NumberValue,
+    TrueEvaluation,
     VarAssignment,
 )
+from scriptc.ir.walk import ConditionVisitor
 from scriptc.language import SCOPES
 
 # The scopes of language.SCOPES, said short enough for a help line.
@@ -88,8 +90,11 @@ def _binding_sites(ctx: Context) -> dict[str, list[tuple[int, ClassAssignment]]]
     return sites
 
 
-class _ConditionChecker:
-    """Checks one condition; `u_bound` holds the aliases bound with `U` by earlier blocks."""
+class _ConditionChecker(ConditionVisitor):
+    """Checks one condition; `u_bound` holds the aliases bound with `U` by earlier blocks.
+    Each kind of node is checked by its `visit_` method; a test or a value is checked with
+    the CLASS assignment whose tests hold it, if any (`tests_of`), and that assignment's class
+    if it is known (`this_class`)."""
 
     def __init__(self, ctx: Context, out: list[Diagnostic], u_bound: set[str],
                  script_classes: dict[str, set[str]],
@@ -110,32 +115,39 @@ class _ConditionChecker:
         for asg in condition.assignments:
             if isinstance(asg, ClassAssignment):
                 self.binding_here.setdefault(asg.alias.name.text, asg)
-        for asg in condition.assignments:
-            if isinstance(asg, ClassAssignment):
-                self.class_assignment(asg)
-            elif isinstance(asg, VarAssignment):
-                self.scope(asg.scope)
-                self.call(asg.call, None)
-            elif isinstance(asg, AttAssignment):
-                self.use(asg.alias, None)
-                self.scope(asg.scope)
-                self.call(asg.call, None)
-        for ev in condition.evaluations:
-            if isinstance(ev, CallEvaluation):
-                self.call(ev.call, None)
+        for node in (*condition.assignments, *condition.evaluations):
+            self.visit(node)
 
-    # -- assignments --------------------------------------------------------------------
+    # -- assignments and evaluations ------------------------------------------------------
 
-    def class_assignment(self, asg: ClassAssignment) -> None:
+    def visit_var_assignment(self, asg: VarAssignment) -> None:
+        self.scope(asg.scope)
+        self.call(asg.call, None)
+
+    def visit_att_assignment(self, asg: AttAssignment) -> None:
+        self.use(asg.alias, None)
+        self.scope(asg.scope)
+        self.call(asg.call, None)
+
+    def visit_call_evaluation(self, ev: CallEvaluation) -> None:
+        self.call(ev.call, None)
+
+    def visit_true_evaluation(self, ev: TrueEvaluation) -> None:
+        pass  # nothing to check
+
+    def visit_field_test(self, test: FieldTest, asg: ClassAssignment, cls: str | None) -> None:
+        if cls is not None:
+            self.field(test.field, cls, None)
+        self.visit(test.value, asg, cls)
+
+    def visit_call_test(self, test: CallTest, asg: ClassAssignment, cls: str | None) -> None:
+        self.call(test.call, (asg, cls))
+
+    def visit_class_assignment(self, asg: ClassAssignment) -> None:
         self.scope(asg.scope)
         cls = self.class_name(asg.class_name)
         for test in asg.tests:
-            if isinstance(test, FieldTest):
-                if cls is not None:
-                    self.field(test.field, cls, None)
-                self.value(test.value, asg, cls)
-            elif isinstance(test, CallTest):
-                self.call(test.call, (asg, cls))
+            self.visit(test, asg, cls)
         alias = asg.alias
         if alias.is_this:
             self.this_outside(alias)
@@ -253,21 +265,32 @@ class _ConditionChecker:
             )
         )
 
-    def value(self, value: Value, tests_of: ClassAssignment | None, this_class: str | None) -> None:
-        if isinstance(value, AliasRef):
-            self.use(value, tests_of)
-        elif isinstance(value, FieldRef):
-            alias = value.alias
-            self.use(alias, tests_of)
-            if alias.is_this:
-                if tests_of is not None and this_class is not None:
-                    self.field(value.field, this_class, None)
-                return
-            cls, binding = self.class_of(alias.name.text)
-            if cls is not None:
-                self.field(value.field, cls, (alias.name.text, binding))
-        elif isinstance(value, AttRef):
-            self.use(value.alias, tests_of)
+    # -- values ---------------------------------------------------------------------------
+
+    def visit_alias(self, value: AliasRef, tests_of: ClassAssignment | None,
+                    this_class: str | None) -> None:
+        self.use(value, tests_of)
+
+    def visit_field(self, value: FieldRef, tests_of: ClassAssignment | None,
+                    this_class: str | None) -> None:
+        alias = value.alias
+        self.use(alias, tests_of)
+        if alias.is_this:
+            if tests_of is not None and this_class is not None:
+                self.field(value.field, this_class, None)
+            return
+        cls, binding = self.class_of(alias.name.text)
+        if cls is not None:
+            self.field(value.field, cls, (alias.name.text, binding))
+
+    def visit_att(self, value: AttRef, tests_of: ClassAssignment | None,
+                  this_class: str | None) -> None:
+        self.use(value.alias, tests_of)
+
+    def visit_number(self, value: NumberValue, *_context: object) -> None:
+        pass  # a literal binds and names nothing
+
+    visit_string = visit_var = visit_number  # a VAR is set at run time, by any rule
 
     def class_of(self, alias: str) -> tuple[str | None, ClassAssignment | None]:
         """The class an alias certainly holds here, and the assignment that says so."""
@@ -310,7 +333,7 @@ class _ConditionChecker:
     def call(self, call: Call, test: tuple[ClassAssignment, str | None] | None) -> None:
         tests_of, this_class = test if test is not None else (None, None)
         for arg in call.args:
-            self.value(arg, tests_of, this_class)
+            self.visit(arg, tests_of, this_class)
         registry = self.ctx.functions
         name = call.name.text
         function = registry.get(name)

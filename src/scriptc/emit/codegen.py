@@ -35,7 +35,15 @@ from itertools import starmap
 
 from scriptc.bytecode.code import Assembler, Label
 from scriptc.bytecode.encode import encode
-from scriptc.bytecode.program import Action, Block, CodeSpan, Goal, Message, Num, Program
+from scriptc.bytecode.program import (
+    Action,
+    Block,
+    CodeSpan,
+    Goal,
+    Message,
+    Num,
+    Program,
+)
 from scriptc.emit.condition import condition_text
 from scriptc.ir.nodes import (
     AliasRef,
@@ -61,6 +69,7 @@ from scriptc.ir.nodes import (
     VarAssignment,
     VarRef,
 )
+from scriptc.ir.walk import ConditionVisitor
 from scriptc.language import MUTEXES, OPERATORS, RULE_ACTIONS, SCOPES
 from scriptc.numbers import whole_number
 from scriptc.source import SourceFile, Span
@@ -92,7 +101,7 @@ def _without(sigil: str, text: str) -> str:
     return text[len(sigil):] if text.startswith(sigil) else text
 
 
-class _Codegen:
+class _Codegen(ConditionVisitor):
     def __init__(self, script: Script, source: SourceFile | None) -> None:
         self.script = script
         self.source = source
@@ -301,7 +310,8 @@ class _Codegen:
         reached_true = condition.bare_true
         if not reached_true:
             for assignment in condition.assignments:
-                self.assignment(assignment, false_exit)
+                asm.mark(*assignment.span)
+                self.visit(assignment, false_exit)
             for evaluation in condition.evaluations:
                 if isinstance(evaluation, TrueEvaluation):
                     reached_true = True
@@ -313,45 +323,76 @@ class _Codegen:
         asm.place(false_exit)
         self.exit(block.false_target, block)
 
-    def assignment(self, assignment, false_exit: Label) -> None:
+    # -- the nodes of a condition (ConditionVisitor) -----------------------------------------
+
+    def visit_class_assignment(self, assignment: ClassAssignment, false_exit: Label) -> None:
         asm = self.asm
+        bind = Label()
+        asm.emit("FIND", self.text(_without("#", assignment.class_name.text)),
+                 self.text(self.alias(assignment.alias, False)),
+                 self.scope(assignment.scope), bind)
+        retry = Label()
+        asm.place(retry)
+        asm.emit("NEXT_CANDIDATE")
+        for test in assignment.tests:
+            asm.mark(*test.span)
+            self.visit(test)
+            asm.emit("JUMP_IF_FALSE", retry)
         asm.mark(*assignment.span)
-        if isinstance(assignment, ClassAssignment):
-            bind = Label()
-            asm.emit("FIND", self.text(_without("#", assignment.class_name.text)),
-                     self.text(self.alias(assignment.alias, False)),
-                     self.scope(assignment.scope), bind)
-            retry = Label()
-            asm.place(retry)
-            asm.emit("NEXT_CANDIDATE")
-            for test in assignment.tests:
-                asm.mark(*test.span)
-                if isinstance(test, FieldTest):
-                    asm.emit("PUSH_THIS_FIELD", self.text(_without("&", test.field.text)))
-                    self.value(test.value, True)
-                    asm.emit("COMPARE", ord(self.comparison(test.op)))
-                elif isinstance(test, CallTest):
-                    self.call(test.call, "CALL_B", True)
-                else:
-                    raise TypeError(f"not a test: {test!r}")
-                asm.emit("JUMP_IF_FALSE", retry)
-            asm.mark(*assignment.span)
-            asm.place(bind)
-            asm.emit("BIND")
-        elif isinstance(assignment, VarAssignment):
-            self.call(assignment.call, "CALL_F", False)
-            asm.emit("SET_VAR", self.scope(assignment.scope),
-                     self.text(_with("@", assignment.var.name.text)))
-        elif isinstance(assignment, AttAssignment):
-            # The alias is checked before the function is called, as the reference
-            # interpreter does (runtime/evaluate.py): a function that fails is reported.
-            alias = self.text(self.alias(assignment.alias, False))
-            asm.emit("BOUND", alias)
-            self.call(assignment.call, "CALL_F", False)
-            asm.emit("SET_ATT", self.scope(assignment.scope), alias,
-                     self.text(_without("$", assignment.att.text)))
+        asm.place(bind)
+        asm.emit("BIND")
+
+    def visit_var_assignment(self, assignment: VarAssignment, false_exit: Label) -> None:
+        self.call(assignment.call, "CALL_F", False)
+        self.asm.emit("SET_VAR", self.scope(assignment.scope),
+                      self.text(_with("@", assignment.var.name.text)))
+
+    def visit_att_assignment(self, assignment: AttAssignment, false_exit: Label) -> None:
+        # The alias is checked before the function is called, as the reference interpreter
+        # does (runtime/evaluate.py): a function that fails is reported.
+        alias = self.text(self.alias(assignment.alias, False))
+        self.asm.emit("BOUND", alias)
+        self.call(assignment.call, "CALL_F", False)
+        self.asm.emit("SET_ATT", self.scope(assignment.scope), alias,
+                      self.text(_without("$", assignment.att.text)))
+
+    def visit_field_test(self, test: FieldTest) -> None:
+        self.asm.emit("PUSH_THIS_FIELD", self.text(_without("&", test.field.text)))
+        self.visit(test.value, True)
+        self.asm.emit("COMPARE", ord(self.comparison(test.op)))
+
+    def visit_call_test(self, test: CallTest) -> None:
+        self.call(test.call, "CALL_B", True)
+
+    def visit_number(self, value: NumberValue, in_test: bool) -> None:
+        self.asm.emit("PUSH_CONST", self.number(value.number))
+
+    def visit_string(self, value: StringValue, in_test: bool) -> None:
+        self.asm.emit("PUSH_CONST", self.text(value.text.value))
+
+    def visit_alias(self, value: AliasRef, in_test: bool) -> None:
+        if value.is_this:
+            self.alias(value, in_test)
+            self.asm.emit("PUSH_THIS")
         else:
-            raise TypeError(f"not an assignment: {assignment!r}")
+            self.asm.emit("PUSH_ALIAS", self.text(self.alias(value, in_test)))
+
+    def visit_field(self, value: FieldRef, in_test: bool) -> None:
+        field = self.text(_without("&", value.field.text))
+        if value.alias.is_this:
+            self.alias(value.alias, in_test)
+            self.asm.emit("PUSH_THIS_FIELD", field)
+        else:
+            self.asm.emit("PUSH_FIELD", self.text(self.alias(value.alias, in_test)), field)
+
+    def visit_att(self, value: AttRef, in_test: bool) -> None:
+        # Attributes belong to aliases, not to entities, so `?THIS>$att` reads the attribute
+        # of the alias `?THIS` (which no assignment sets), as the reference interpreter does.
+        self.asm.emit("PUSH_ATT", self.text(self.alias(value.alias, in_test)),
+                      self.text(_without("$", value.att.text)))
+
+    def visit_var(self, value: VarRef, in_test: bool) -> None:
+        self.asm.emit("PUSH_VAR", self.text(_with("@", value.name.text)))
 
     @staticmethod
     def alias(alias: AliasRef, in_test: bool) -> str:
@@ -374,36 +415,5 @@ class _Codegen:
         if len(call.args) > 255:
             raise CodegenError(f"`{call.name.text}` is called with more than 255 arguments")
         for arg in call.args:
-            self.value(arg, in_test)
+            self.visit(arg, in_test)
         self.asm.emit(opcode, self.text(call.name.text), len(call.args))
-
-    def value(self, value, in_test: bool) -> None:
-        asm = self.asm
-        if isinstance(value, NumberValue):
-            asm.emit("PUSH_CONST", self.number(value.number))
-        elif isinstance(value, StringValue):
-            asm.emit("PUSH_CONST", self.text(value.text.value))
-        elif isinstance(value, AliasRef):
-            if value.is_this:
-                self.alias(value, in_test)
-                asm.emit("PUSH_THIS")
-            else:
-                asm.emit("PUSH_ALIAS", self.text(self.alias(value, in_test)))
-        elif isinstance(value, FieldRef):
-            field = self.text(_without("&", value.field.text))
-            if value.alias.is_this:
-                self.alias(value.alias, in_test)
-                asm.emit("PUSH_THIS_FIELD", field)
-            else:
-                asm.emit("PUSH_FIELD", self.text(self.alias(value.alias, in_test)), field)
-        elif isinstance(value, AttRef):
-            # Attributes belong to aliases, not to entities, so `?THIS>$att` reads the
-            # attribute of the alias `?THIS` (which no assignment sets), as the reference
-            # interpreter does.
-            asm.emit("PUSH_ATT", self.text(self.alias(value.alias, in_test)),
-                     self.text(_without("$", value.att.text)))
-        elif isinstance(value, VarRef):
-            asm.emit("PUSH_VAR", self.text(_with("@", value.name.text)))
-        else:
-            raise TypeError(f"not a condition value: {value!r}")
-

@@ -17,27 +17,11 @@ not (`Human`, `v`) prints the same.
 
 from __future__ import annotations
 
-from scriptc.ir.nodes import (
-    AliasRef,
-    AttAssignment,
-    AttRef,
-    Call,
-    CallEvaluation,
-    CallTest,
-    ClassAssignment,
-    Condition,
-    FieldRef,
-    FieldTest,
-    Name,
-    NumberValue,
-    StringValue,
-    TrueEvaluation,
-    VarAssignment,
-    VarRef,
-)
+from scriptc.ir.nodes import AliasRef, Call, Condition, Name
+from scriptc.ir.walk import ConditionVisitor
 from scriptc.language import quote
 
-__all__ = ["condition_text", "value_text", "call_text"]
+__all__ = ["call_text", "condition_text", "value_text"]
 
 
 def _sigil(sigil: str, name: Name) -> str:
@@ -54,70 +38,74 @@ def _alias(alias: AliasRef) -> str:
     return _sigil("?", alias.name)
 
 
-def value_text(value) -> str:
-    """One argument or compared value."""
-    if isinstance(value, NumberValue):
+class _Text(ConditionVisitor):
+    """The text of each kind of node."""
+
+    def visit_number(self, value) -> str:
         return value.number.text
-    if isinstance(value, StringValue):
+
+    def visit_string(self, value) -> str:
         return quote(value.text.value)
-    if isinstance(value, FieldRef):
+
+    def visit_field(self, value) -> str:
         return f"{_alias(value.alias)}>&{_bare('&', value.field)}"
-    if isinstance(value, AttRef):
+
+    def visit_att(self, value) -> str:
         return f"{_alias(value.alias)}>${_bare('$', value.att)}"
-    if isinstance(value, VarRef):
+
+    def visit_var(self, value) -> str:
         return _sigil("@", value.name)
-    if isinstance(value, AliasRef):
+
+    def visit_alias(self, value) -> str:
         return _alias(value)
-    raise TypeError(f"not a condition value: {value!r}")
+
+    def visit_field_test(self, test) -> str:
+        return f"?THIS>&{_bare('&', test.field)} {test.op.text} {self.visit(test.value)}"
+
+    def visit_call_test(self, test) -> str:
+        return call_text(test.call)
+
+    def visit_class_assignment(self, assignment) -> str:
+        tests = ", ".join([self.visit(t) for t in assignment.tests])
+        return (f"{{CLASS {_sigil('#', assignment.class_name)} {assignment.scope.text} "
+                f"{_alias(assignment.alias)} ({tests})}}")
+
+    def visit_var_assignment(self, assignment) -> str:
+        return (f"{{VAR {_sigil('@', assignment.var.name)} {assignment.scope.text} "
+                f"{call_text(assignment.call)}}}")
+
+    def visit_att_assignment(self, assignment) -> str:
+        return (f"{{ATT {_alias(assignment.alias)} {_sigil('$', assignment.att)} "
+                f"{assignment.scope.text} {call_text(assignment.call)}}}")
+
+    def visit_call_evaluation(self, evaluation) -> str:
+        return f"{{{call_text(evaluation.call)}}}"
+
+    def visit_true_evaluation(self, evaluation) -> str:
+        return "{TRUE}"
+
+
+_TEXT = _Text()
+_visit = _TEXT.visit
+_text_of = _Text.methods  # for the loops below, which the JSON emitter runs for every jump
+
+
+def value_text(value) -> str:
+    """One argument or compared value (or any other node of a condition)."""
+    return _visit(value)
 
 
 def call_text(call: Call) -> str:
     """`KIND: name(arg, arg)`."""
-    args = ", ".join(value_text(a) for a in call.args)
+    args = ", ".join([_text_of[type(a)](_TEXT, a) for a in call.args])
     return f"{call.kind}: {call.name.text}({args})"
-
-
-def _test_text(test) -> str:
-    if isinstance(test, FieldTest):
-        return f"?THIS>&{_bare('&', test.field)} {test.op.text} {value_text(test.value)}"
-    if isinstance(test, CallTest):
-        return call_text(test.call)
-    raise TypeError(f"not a CLASS test: {test!r}")
-
-
-def _assignment_text(assignment) -> str:
-    if isinstance(assignment, ClassAssignment):
-        tests = ", ".join(_test_text(t) for t in assignment.tests)
-        return (
-            f"{{CLASS {_sigil('#', assignment.class_name)} {assignment.scope.text} "
-            f"{_alias(assignment.alias)} ({tests})}}"
-        )
-    if isinstance(assignment, VarAssignment):
-        return (
-            f"{{VAR {_sigil('@', assignment.var.name)} {assignment.scope.text} "
-            f"{call_text(assignment.call)}}}"
-        )
-    if isinstance(assignment, AttAssignment):
-        return (
-            f"{{ATT {_alias(assignment.alias)} {_sigil('$', assignment.att)} "
-            f"{assignment.scope.text} {call_text(assignment.call)}}}"
-        )
-    raise TypeError(f"not an assignment: {assignment!r}")
-
-
-def _evaluation_text(evaluation) -> str:
-    if isinstance(evaluation, CallEvaluation):
-        return f"{{{call_text(evaluation.call)}}}"
-    if isinstance(evaluation, TrueEvaluation):
-        return "{TRUE}"
-    raise TypeError(f"not an evaluation: {evaluation!r}")
 
 
 def condition_text(cond: Condition) -> str:
     """The canonical text of `cond` (the `toparse` of the thesis JSON)."""
     if cond.bare_true:
         return "{TRUE}"
-    parts = [_assignment_text(a) for a in cond.assignments]
+    parts = [_text_of[type(a)](_TEXT, a) for a in cond.assignments]
     parts.append("!")
-    parts.extend(_evaluation_text(e) for e in cond.evaluations)
+    parts.extend([_text_of[type(e)](_TEXT, e) for e in cond.evaluations])
     return " ".join(parts)

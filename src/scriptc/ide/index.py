@@ -39,11 +39,12 @@ from scriptc.ir.nodes import (
     InstructionBlock,
     JumpBlock,
     RuleMessage,
-    Value,
+    TrueEvaluation,
     VarAssignment,
     VarRef,
     block_path,
 )
+from scriptc.ir.walk import ConditionVisitor
 from scriptc.source import Span
 
 
@@ -215,7 +216,7 @@ class Tables:
             self.all_occurrences.extend(index.occurrences_in(start))
 
 
-class _ItemWalker:
+class _ItemWalker(ConditionVisitor):
     """Collects the names of one item from its IR."""
 
     def __init__(self, index: ScriptIndex) -> None:
@@ -264,59 +265,79 @@ class _ItemWalker:
 
     def condition(self, condition: Condition) -> None:
         bound: dict[str, str] = {}  # alias -> class, bound so far in this condition
-        for asg in condition.assignments:
-            if isinstance(asg, ClassAssignment):
-                cls = asg.class_name.text
-                self.add(asg.class_name.span, "class", cls)
-                self.add(asg.scope.span, "scope", asg.scope.text)
-                alias = asg.alias
-                if alias.is_this:
-                    self.add(alias.span, "this", alias.name.text, detail=cls)
-                else:
-                    self.add(alias.span, "alias", alias.name.text, "definition", asg)
-                for test in asg.tests:
-                    if isinstance(test, FieldTest):
-                        self.add(test.field.span, "field", test.field.text, detail=cls)
-                        self.add(test.op.span, "operator", test.op.text)
-                        self.value(test.value, bound, cls)
-                    elif isinstance(test, CallTest):
-                        self.call(test.call, bound, cls)
-                if not alias.is_this:
-                    bound[alias.name.text] = cls
-            elif isinstance(asg, VarAssignment):
-                self.add(asg.var.span, "var", asg.var.name.text, "definition")
-                self.add(asg.scope.span, "scope", asg.scope.text)
-                self.call(asg.call, bound, None)
-            elif isinstance(asg, AttAssignment):
-                self.value(asg.alias, bound, None)
-                self.add(asg.att.span, "att", asg.att.text, "definition")
-                self.add(asg.scope.span, "scope", asg.scope.text)
-                self.call(asg.call, bound, None)
-        for ev in condition.evaluations:
-            if isinstance(ev, CallEvaluation):
-                self.call(ev.call, bound, None)
+        for node in (*condition.assignments, *condition.evaluations):
+            self.visit(node, bound)
+
+    # The nodes of a condition (ConditionVisitor): `bound` maps the aliases bound so far in the
+    # condition to their classes; `this_class` is the class whose tests hold a value, if any.
+
+    def visit_class_assignment(self, asg: ClassAssignment, bound: dict[str, str]) -> None:
+        cls = asg.class_name.text
+        self.add(asg.class_name.span, "class", cls)
+        self.add(asg.scope.span, "scope", asg.scope.text)
+        alias = asg.alias
+        if alias.is_this:
+            self.add(alias.span, "this", alias.name.text, detail=cls)
+        else:
+            self.add(alias.span, "alias", alias.name.text, "definition", asg)
+        for test in asg.tests:
+            self.visit(test, bound, cls)
+        if not alias.is_this:
+            bound[alias.name.text] = cls
+
+    def visit_var_assignment(self, asg: VarAssignment, bound: dict[str, str]) -> None:
+        self.add(asg.var.span, "var", asg.var.name.text, "definition")
+        self.add(asg.scope.span, "scope", asg.scope.text)
+        self.call(asg.call, bound, None)
+
+    def visit_att_assignment(self, asg: AttAssignment, bound: dict[str, str]) -> None:
+        self.visit(asg.alias, bound, None)
+        self.add(asg.att.span, "att", asg.att.text, "definition")
+        self.add(asg.scope.span, "scope", asg.scope.text)
+        self.call(asg.call, bound, None)
+
+    def visit_call_evaluation(self, ev: CallEvaluation, bound: dict[str, str]) -> None:
+        self.call(ev.call, bound, None)
+
+    def visit_true_evaluation(self, ev: TrueEvaluation, bound: dict[str, str]) -> None:
+        pass  # no name in it
+
+    def visit_field_test(self, test: FieldTest, bound: dict[str, str], cls: str) -> None:
+        self.add(test.field.span, "field", test.field.text, detail=cls)
+        self.add(test.op.span, "operator", test.op.text)
+        self.visit(test.value, bound, cls)
+
+    def visit_call_test(self, test: CallTest, bound: dict[str, str], cls: str) -> None:
+        self.call(test.call, bound, cls)
 
     def call(self, call: Call, bound: dict[str, str], this_class: str | None) -> None:
         self.add(call.name.span, "function", call.name.text, detail=call)
         for arg in call.args:
-            self.value(arg, bound, this_class)
+            self.visit(arg, bound, this_class)
 
-    def value(self, value: Value, bound: dict[str, str], this_class: str | None) -> None:
-        if isinstance(value, AliasRef):
-            if value.is_this:
-                self.add(value.span, "this", value.name.text, detail=this_class)
-            else:
-                self.add(value.span, "alias", value.name.text)
-        elif isinstance(value, FieldRef):
-            self.value(value.alias, bound, this_class)
-            alias = value.alias
-            if alias.is_this:
-                cls = this_class
-            else:
-                cls = bound.get(alias.name.text) or self.index.alias_class(alias.name.text)
-            self.add(value.field.span, "field", value.field.text, detail=cls)
-        elif isinstance(value, AttRef):
-            self.value(value.alias, bound, this_class)
-            self.add(value.att.span, "att", value.att.text)
-        elif isinstance(value, VarRef):
-            self.add(value.span, "var", value.name.text)
+    def visit_alias(self, value: AliasRef, bound: dict[str, str], this_class: str | None) -> None:
+        if value.is_this:
+            self.add(value.span, "this", value.name.text, detail=this_class)
+        else:
+            self.add(value.span, "alias", value.name.text)
+
+    def visit_field(self, value: FieldRef, bound: dict[str, str], this_class: str | None) -> None:
+        self.visit(value.alias, bound, this_class)
+        alias = value.alias
+        if alias.is_this:
+            cls = this_class
+        else:
+            cls = bound.get(alias.name.text) or self.index.alias_class(alias.name.text)
+        self.add(value.field.span, "field", value.field.text, detail=cls)
+
+    def visit_att(self, value: AttRef, bound: dict[str, str], this_class: str | None) -> None:
+        self.visit(value.alias, bound, this_class)
+        self.add(value.att.span, "att", value.att.text)
+
+    def visit_var(self, value: VarRef, bound: dict[str, str], this_class: str | None) -> None:
+        self.add(value.span, "var", value.name.text)
+
+    def visit_number(self, value, bound: dict[str, str], this_class: str | None) -> None:
+        pass  # a literal names nothing
+
+    visit_string = visit_number

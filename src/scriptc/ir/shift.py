@@ -28,7 +28,7 @@ from scriptc.diagnostics import model as _model
 from scriptc.ir import nodes as _nodes
 from scriptc.source import Span
 
-__all__ = ["shift", "map_spans"]
+__all__ = ["map_spans", "shift"]
 
 _tuple_new = tuple.__new__
 _LEAVES = (str, int, float, bool, enum.Enum)

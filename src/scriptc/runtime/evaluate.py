@@ -42,9 +42,10 @@ from dataclasses import dataclass, field
 from typing import NamedTuple
 
 from scriptc.ir import nodes as ir
+from scriptc.ir.walk import ConditionVisitor
 from scriptc.runtime.bindings import Bindings
-from scriptc.runtime.functions import CallContext, FunctionError, Implementations
 from scriptc.runtime.commands import Value, compare_op
+from scriptc.runtime.functions import CallContext, FunctionError, Implementations
 from scriptc.runtime.world import Entity, World
 
 
@@ -314,22 +315,62 @@ def _bare(text: str, sigil: str) -> str:
     return text[1:] if text.startswith(sigil) else text
 
 
-def read_of(value: ir.Value) -> Read:
-    """An argument or the right side of a test."""
-    if isinstance(value, ir.NumberValue):
+Step = Callable[[EvalContext], bool]
+
+
+class _Compiler(ConditionVisitor):
+    """Each kind of node as its part: a value as a `Read`, a test as a `Check`, an assignment
+    as a `Step`."""
+
+    def visit_number(self, value: ir.NumberValue) -> Read:
         return constant(value.number.value)
-    if isinstance(value, ir.StringValue):
+
+    def visit_string(self, value: ir.StringValue) -> Read:
         return constant(value.text.value)
-    if isinstance(value, ir.FieldRef):
+
+    def visit_field(self, value: ir.FieldRef) -> Read:
         name = _bare(value.field.text, "&")
         return this_field(name) if value.alias.is_this else field_of(value.alias.name.text, name)
-    if isinstance(value, ir.AliasRef):
+
+    def visit_alias(self, value: ir.AliasRef) -> Read:
         return this_id() if value.is_this else alias_id(value.name.text)
-    if isinstance(value, ir.VarRef):
+
+    def visit_var(self, value: ir.VarRef) -> Read:
         return variable(value.name.text)
-    if isinstance(value, ir.AttRef):
+
+    def visit_att(self, value: ir.AttRef) -> Read:
         return attribute(value.alias.name.text, _bare(value.att.text, "$"))
-    raise TypeError(f"not a value: {value!r}")
+
+    def visit_call_test(self, test: ir.CallTest) -> Check:
+        return _call_of(test.call).get
+
+    def visit_field_test(self, test: ir.FieldTest) -> Check:
+        return comparison(test.op.text, this_field(_bare(test.field.text, "&")),
+                          read_of(test.value)).get
+
+    def visit_class_assignment(self, asg: ir.ClassAssignment) -> Step:
+        checks = tuple(check_of(t) for t in asg.tests)
+        alias, cls, scope = asg.alias.name.text, _bare(asg.class_name.text, "#"), asg.scope.text
+        return lambda ctx: ctx.assign_class(alias, cls, scope, checks)
+
+    def visit_var_assignment(self, asg: ir.VarAssignment) -> Step:
+        get, scope, name = _call_of(asg.call).get, asg.scope.text, asg.var.name.text
+        return lambda ctx: ctx.assign_var(name, get(None, ctx), scope)
+
+    def visit_att_assignment(self, asg: ir.AttAssignment) -> Step:
+        get, scope = _call_of(asg.call).get, asg.scope.text
+        alias, att = asg.alias.name.text, _bare(asg.att.text, "$")
+        # The F function is not called for an unbound alias.
+        return lambda ctx: (ctx.lookup(alias) is not None
+                            and ctx.assign_att(alias, att, get(None, ctx), scope))
+
+
+_compile = _Compiler().visit
+
+
+def read_of(value: ir.Value) -> Read:
+    """An argument or the right side of a test."""
+    return _compile(value)
 
 
 def _call_of(node: ir.Call) -> Read:
@@ -338,31 +379,7 @@ def _call_of(node: ir.Call) -> Read:
 
 def check_of(test: ir.Test) -> Check:
     """A test of a CLASS assignment as a check over (`?THIS`, ctx)."""
-    if isinstance(test, ir.CallTest):
-        return _call_of(test.call).get
-    return comparison(test.op.text, this_field(_bare(test.field.text, "&")),
-                      read_of(test.value)).get
-
-
-Step = Callable[[EvalContext], bool]
-
-
-def _assignment(asg: ir.Assignment) -> Step:
-    if isinstance(asg, ir.ClassAssignment):
-        checks = tuple(check_of(t) for t in asg.tests)
-        alias, cls, scope = asg.alias.name.text, _bare(asg.class_name.text, "#"), asg.scope.text
-        return lambda ctx: ctx.assign_class(alias, cls, scope, checks)
-    get = _call_of(asg.call).get
-    scope = asg.scope.text
-    if isinstance(asg, ir.VarAssignment):
-        name = asg.var.name.text
-        return lambda ctx: ctx.assign_var(name, get(None, ctx), scope)
-    if isinstance(asg, ir.AttAssignment):
-        alias, att = asg.alias.name.text, _bare(asg.att.text, "$")
-        # The F function is not called for an unbound alias.
-        return lambda ctx: (ctx.lookup(alias) is not None
-                            and ctx.assign_att(alias, att, get(None, ctx), scope))
-    raise TypeError(f"not an assignment: {asg!r}")
+    return _compile(test)
 
 
 def compile_condition(condition: ir.Condition) -> Step:
@@ -370,7 +387,7 @@ def compile_condition(condition: ir.Condition) -> Step:
     the bindings it made are the context's)."""
     if condition.bare_true:
         return lambda ctx: True
-    steps = [_assignment(a) for a in condition.assignments]
+    steps = [_compile(a) for a in condition.assignments]
     for ev in condition.evaluations:
         if isinstance(ev, ir.TrueEvaluation):
             break  # true at once: what follows is never evaluated
