@@ -196,6 +196,8 @@ def test_label_paths() -> None:
      "not a whole number"),
     (lambda: script_of(ir.InstructionBlock(None, (ir.MoveCommand(n("1"), n("0"), n("0"), n("x"), n("1"), S),), (), (), S)),
      "not a number"),
+    (lambda: script_of(ir.InstructionBlock(None, (ir.MoveCommand(n("1"), n("0"), n("0"), n("9" * 400), n("1"), S),), (), (), S)),
+     "too large"),
     (lambda: script_of(ir.TerminusBlock(None, S), alfa=(ir.RuleMessage(
         "alfa", n("0"), name("r"), ir.Text("", S), ir.Text("", S), name("AB"), name("U"), S),)),
      "not a single letter"),
@@ -203,6 +205,16 @@ def test_label_paths() -> None:
 def test_what_cannot_be_written_raises(bad, message) -> None:
     with pytest.raises(EmitError, match=message):
         emit_json(bad())
+
+
+@pytest.mark.parametrize("text", ["0", "7", "007", "0000", "1500", "9" * 18, "9" * 19,
+                                  "0" * 30 + "12", "9" * 309])
+def test_whole_number_times_are_written_as_json_integers(text: str) -> None:
+    block = ir.InstructionBlock(None, (ir.MoveCommand(n("1"), n("0"), n("0"), n(text), n("1"), S),),
+                                (), (), S)
+    out = json.loads(emit_json(script_of(block)))
+    assert out["goal0"]["act0"]["blk0"]["move"][0]["wait_t"] == int(text)
+    assert f'"wait_t":{int(text)},' in emit_json(script_of(block))
 
 
 def test_empty_containers_keep_the_layout() -> None:

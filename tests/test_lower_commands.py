@@ -48,6 +48,7 @@ def field_by_field(text: str, monkeypatch: pytest.MonkeyPatch):
     never = re.compile(r"(?!)")
     with monkeypatch.context() as m:
         m.setattr(lower, "_WELL_FORMED", {"MV": never, "LD": never, "AO": never})
+        m.setattr(lower, "_SPLIT", {track: {} for track in lower._SPLIT})  # nothing known
         return lowered(text)
 
 
@@ -64,6 +65,28 @@ def test_one_match_reads_as_field_by_field(text: str) -> None:
 def test_examples(mv: str, monkeypatch: pytest.MonkeyPatch) -> None:
     text = f'[a]\n[goal:g]\n[action]\n[b#x#blk_inst: MV("{mv}") LD() AO("s, 0, 10")]\n'
     assert lowered(text) == field_by_field(text, monkeypatch)
+
+
+def test_a_command_string_met_again_is_read_the_same_at_its_own_place() -> None:
+    """Each distinct command string is split once (`_SPLIT`); where it is met again, its
+    numbers get their own spans, and a string with an error is reported each time."""
+    inst = '[b#x{}#blk_inst: MV("0, 0.1, 0, 0, 500") LD("1, x, 0, 1, 0, 500") AO("s.wav, 0, 9")]\n'
+    text = "[a]\n[goal:g]\n[action]\n" + inst.format(1) + "  " + inst.format(2)
+    script, diagnostics = lowered(text)
+    first, second = script.goals[0].actions[0].blocks
+    shift = text.index(inst.format(2)) - text.index(inst.format(1))
+
+    def numbers(block):
+        m, a = block.moves[0], block.audios[0]
+        return [m.v_x, m.v_y, m.v_theta, m.wait_t, m.duration, a.wait_t, a.duration]
+
+    assert [n.text for n in numbers(second)] == ["0", "0.1", "0", "0", "500", "0", "9"]
+    for a, b in zip(numbers(first), numbers(second)):
+        assert b.text == a.text and b.span == (a.span.start + shift, a.span.end + shift)
+        assert text[b.span.start:b.span.end] == b.text
+    assert [code for code, _, _ in diagnostics] == ["V002", "V002"]
+    assert diagnostics[1][2].start - diagnostics[0][2].start == shift
+    assert lowered(text) == (script, diagnostics)
 
 
 @pytest.mark.parametrize("ao", ["songs/a.wav, ,0,0", "a,,0,0", " ,x,0,0", "a, ,b,0,0",

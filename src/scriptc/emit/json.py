@@ -56,6 +56,8 @@ def _integer(number: Number, what: str) -> str:
     text = number.text
     if text.isascii() and text.isdigit():
         # The common case, and it keeps leading zeros out of the JSON (`007` -> `7`).
+        if len(text) < 19 and (text[0] != "0" or len(text) == 1):
+            return text  # already the integer's JSON
         value = whole_number(text)
         if value is None:
             raise EmitError(f"{what} `{text[:20]}...` is too large")

@@ -51,6 +51,24 @@ def _kind(node: Tree | Token) -> str:
 # script make hundreds of thousands of spans.
 _span = tuple.__new__
 
+
+def _well_formed(track: str, raw: str) -> tuple[tuple[str, int, int], ...] | None:
+    """The fields of a command string whose fields are all there and all numbers (the audio
+    path aside), as (text, start, end) within `raw`; None for any other string, which
+    `Lowerer.command` reads field by field, reporting what is wrong."""
+    m = _WELL_FORMED[track].fullmatch(raw) if "\\" not in raw else None
+    if m is None or (track == "AO" and m.group(1)[-1] == ","):
+        return None  # (an audio path whose last part is blank: its blanks belong to the path)
+    return tuple((raw[a:b], a, b) for a, b in m.regs[1:])
+
+
+# The fields of each command string met, by track: a script repeats its commands (a still
+# move, a LED off), and each string is split once (bounded, like the parser's shapes).
+_SPLIT: dict[str, dict[str, tuple[tuple[str, int, int], ...] | None]] = {
+    track: {} for track in _WELL_FORMED}
+_MAX_SPLIT = 4096
+_UNSEEN = object()
+
 # The parentheses of a condition, strings and comments skipped (either may hold one).
 _PARENS = re.compile(f"{STRING_PATTERN}|{COMMENT_PATTERN}|[()]")
 
@@ -406,17 +424,18 @@ class Lowerer:
         such as an audio path's, are kept; each field is unescaped afterwards."""
         raw = token.value[1:-1]
         start = self.base + token.start_pos + 1
-        m = _WELL_FORMED[track].fullmatch(raw) if "\\" not in raw else None
-        if m is not None and track == "AO" and m.group(1)[-1] == ",":
-            m = None  # the path's last part is blank: its blanks belong to the path (below)
-        if m is not None:
-            # The common case in one match: every field there and a number (the path of an
-            # audio command, text); what follows reads the same fields the same way.
+        split = _SPLIT[track]
+        fields = split.get(raw, _UNSEEN)
+        if fields is _UNSEEN:
+            if len(split) >= _MAX_SPLIT:
+                split.clear()
+            fields = split[raw] = _well_formed(track, raw)
+        if fields is not None:
+            # The common case: every field there and a number (the path of an audio command,
+            # text); what follows reads the same fields the same way.
             whole = Span(start - 1, self.base + token.end_pos)
-            numbers = []
-            for i in range(1, m.lastindex + 1):
-                a, b = m.span(i)
-                numbers.append(ir.Number(raw[a:b], _span(Span, (start + a, start + b))))
+            numbers = [ir.Number(text, _span(Span, (start + a, start + b)))
+                       for text, a, b in fields]
             if track == "MV":
                 return ir.MoveCommand(*numbers, span=whole)
             if track == "LD":
