@@ -24,7 +24,7 @@ from scriptc.bytecode import (
     load,
     verify,
 )
-from scriptc.bytecode.code import Assembler, Label, instructions
+from scriptc.bytecode.code import Assembler, JumpTarget, instructions
 from scriptc.bytecode.opcodes import BY_NAME, MAX_STACK, OPCODES
 from scriptc.bytecode.program import Action, Block, CodeSpan, Goal, Num, Program
 from scriptc.analysis.analyze import analyze_file, analyze_script
@@ -187,7 +187,7 @@ def test_codegen_refuses_what_the_checks_refuse() -> None:
 
 def test_assembler_patches_forward_labels_and_compacts_spans() -> None:
     asm = Assembler()
-    label = Label()
+    label = JumpTarget()
     asm.mark(0, 1)
     asm.mark(5, 6)  # replaces the entry above: nothing was emitted under it
     asm.emit("COND", label, 0)
@@ -344,7 +344,7 @@ def test_bad_letters(program: Program) -> None:
 
 def test_stack_underflow() -> None:
     def build(asm: Assembler) -> None:
-        fail = Label()
+        fail = JumpTarget()
         asm.emit("COND", fail, 0)
         asm.emit("COMPARE", ord("="))
         asm.place(fail)
@@ -355,7 +355,7 @@ def test_stack_underflow() -> None:
 
 def test_stack_overflow() -> None:
     def build(asm: Assembler) -> None:
-        fail = Label()
+        fail = JumpTarget()
         asm.emit("COND", fail, 0)
         for _ in range(MAX_STACK + 1):
             asm.emit("PUSH_CONST", 0)
@@ -368,7 +368,7 @@ def test_stack_overflow() -> None:
 
 def test_stack_types() -> None:
     def build(asm: Assembler) -> None:
-        fail = Label()
+        fail = JumpTarget()
         asm.emit("COND", fail, 0)
         asm.emit("PUSH_CONST", 0)
         asm.emit("JUMP_IF_FALSE", fail)
@@ -380,7 +380,7 @@ def test_stack_types() -> None:
 
 def test_values_left_at_an_exit() -> None:
     def build(asm: Assembler) -> None:
-        fail = Label()
+        fail = JumpTarget()
         asm.emit("COND", fail, 0)
         asm.emit("PUSH_CONST", 0)
         asm.emit("NEXT_BLOCK")
@@ -392,7 +392,7 @@ def test_values_left_at_an_exit() -> None:
 
 def test_this_needs_a_candidate() -> None:
     def build(asm: Assembler) -> None:
-        fail = Label()
+        fail = JumpTarget()
         asm.emit("COND", fail, 0)
         asm.emit("PUSH_THIS")
         asm.place(fail)
@@ -403,7 +403,7 @@ def test_this_needs_a_candidate() -> None:
 
 def test_search_must_end_before_an_exit() -> None:
     def build(asm: Assembler) -> None:
-        fail, bind = Label(), Label()
+        fail, bind = JumpTarget(), JumpTarget()
         asm.emit("COND", fail, 0)
         asm.emit("FIND", 0, 0, ord("U"), bind)
         asm.emit("NEXT_CANDIDATE")
@@ -418,7 +418,7 @@ def test_search_must_end_before_an_exit() -> None:
 
 def test_find_needs_next_candidate_and_its_bind() -> None:
     def build(asm: Assembler) -> None:
-        fail, bind = Label(), Label()
+        fail, bind = JumpTarget(), JumpTarget()
         asm.emit("COND", fail, 0)
         asm.emit("FIND", 0, 0, ord("U"), bind)
         asm.place(bind)
@@ -429,7 +429,7 @@ def test_find_needs_next_candidate_and_its_bind() -> None:
     invalid(one_block(build), "FIND must be followed by NEXT_CANDIDATE")
 
     def wrong_bind(asm: Assembler) -> None:
-        fail = Label()
+        fail = JumpTarget()
         asm.emit("COND", fail, 0)
         asm.emit("FIND", 0, 0, ord("U"), fail)
         asm.emit("NEXT_CANDIDATE")
@@ -442,7 +442,7 @@ def test_find_needs_next_candidate_and_its_bind() -> None:
 
 def test_searches_hold_tests_only() -> None:
     def forward(asm: Assembler) -> None:
-        fail, bind = Label(), Label()
+        fail, bind = JumpTarget(), JumpTarget()
         asm.emit("COND", fail, 0)
         asm.emit("FIND", 0, 0, ord("U"), bind)
         asm.emit("NEXT_CANDIDATE")
@@ -458,7 +458,7 @@ def test_searches_hold_tests_only() -> None:
     invalid(one_block(forward), "inside a search, a jump may only return")
 
     def assigns(asm: Assembler) -> None:
-        fail, bind = Label(), Label()
+        fail, bind = JumpTarget(), JumpTarget()
         asm.emit("COND", fail, 0)
         asm.emit("FIND", 0, 0, ord("U"), bind)
         asm.emit("NEXT_CANDIDATE")
@@ -474,7 +474,7 @@ def test_searches_hold_tests_only() -> None:
 
 def test_paths_must_agree() -> None:
     def build(asm: Assembler) -> None:
-        fail, join = Label(), Label()
+        fail, join = JumpTarget(), JumpTarget()
         asm.emit("COND", fail, 0)
         asm.emit("PUSH_CONST", 0)
         asm.emit("PUSH_CONST", 0)
@@ -491,7 +491,7 @@ def test_paths_must_agree() -> None:
 
 def test_running_off_the_block() -> None:
     def build(asm: Assembler) -> None:
-        fail = Label()
+        fail = JumpTarget()
         asm.emit("COND", fail, 0)
         asm.emit("NEXT_BLOCK")
         asm.place(fail)

@@ -12,7 +12,7 @@ from typing import NamedTuple
 from scriptc.bytecode.errors import InvalidError
 from scriptc.bytecode.opcodes import BY_CODE, BY_NAME, Opcode
 
-__all__ = ["Instruction", "read_instruction", "instructions", "Assembler", "Label"]
+__all__ = ["Instruction", "read_instruction", "instructions", "Assembler", "JumpTarget"]
 
 
 class Instruction(NamedTuple):
@@ -50,8 +50,9 @@ def instructions(code: bytes, start: int = 0, end: int | None = None) -> Iterato
         offset = ins.end
 
 
-class Label:
-    """A code offset not known yet (a forward jump's target); `Assembler.place` fixes it."""
+class JumpTarget:
+    """A code offset not known yet (a forward jump's target); `Assembler.place` fixes it. (The
+    script's labels are names of blocks; this is the assembler's own.)"""
 
     __slots__ = ("offset", "uses")
 
@@ -62,8 +63,8 @@ class Label:
 
 class Assembler:
     """Builds an instruction stream: `emit("MOVE", ...)` with operands in table order; jump
-    operands may be Labels, patched when the label is placed. `mark(span)` records the source
-    span of the instructions that follow (an entry only when the span changes)."""
+    operands may be JumpTargets, patched when the target is placed. `mark(span)` records the
+    source span of the instructions that follow (an entry only when the span changes)."""
 
     def __init__(self) -> None:
         self.code = bytearray()
@@ -85,10 +86,10 @@ class Assembler:
                     return
             self.spans.append((here, start, end))
 
-    def place(self, label: Label) -> None:
-        label.offset = len(self.code)
-        for at in label.uses:
-            self.code[at:at + 4] = label.offset.to_bytes(4, "little")
+    def place(self, target: JumpTarget) -> None:
+        target.offset = len(self.code)
+        for at in target.uses:
+            self.code[at:at + 4] = target.offset.to_bytes(4, "little")
 
     def since(self, offset: int) -> bytes:
         """The bytes emitted from `offset` on (to `replay` later)."""
@@ -99,7 +100,7 @@ class Assembler:
         jump: their bytes do not depend on where they go."""
         self.code += encoded
 
-    def emit(self, name: str, *operands: int | Label) -> int:
+    def emit(self, name: str, *operands: int | JumpTarget) -> int:
         """Append one instruction; returns its offset."""
         packer, code, jumps = _EMIT[name]
         at = len(self.code)
@@ -107,7 +108,7 @@ class Assembler:
             values = list(operands)
             for index, where in jumps:
                 value = values[index]
-                if isinstance(value, Label):
+                if isinstance(value, JumpTarget):
                     if value.offset is None:
                         value.uses.append(at + where)
                         values[index] = 0

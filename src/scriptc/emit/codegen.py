@@ -33,7 +33,7 @@ from collections.abc import Mapping
 from decimal import Decimal, InvalidOperation
 from itertools import starmap
 
-from scriptc.bytecode.code import Assembler, Label
+from scriptc.bytecode.code import Assembler, JumpTarget
 from scriptc.bytecode.encode import encode
 from scriptc.bytecode.program import (
     Action,
@@ -304,7 +304,7 @@ class _Codegen(ConditionVisitor):
     def condition(self, block: JumpBlock, index: int) -> None:
         asm = self.asm
         condition: Condition = block.condition
-        false_exit = Label()
+        false_exit = JumpTarget()
         asm.mark(*condition.span)
         asm.emit("COND", false_exit, self.text(condition_text(condition)))
         reached_true = condition.bare_true
@@ -325,13 +325,13 @@ class _Codegen(ConditionVisitor):
 
     # -- the nodes of a condition (ConditionVisitor) -----------------------------------------
 
-    def visit_class_assignment(self, assignment: ClassAssignment, false_exit: Label) -> None:
+    def visit_class_assignment(self, assignment: ClassAssignment, false_exit: JumpTarget) -> None:
         asm = self.asm
-        bind = Label()
+        bind = JumpTarget()
         asm.emit("FIND", self.text(_without("#", assignment.class_name.text)),
                  self.text(self.alias(assignment.alias, False)),
                  self.scope(assignment.scope), bind)
-        retry = Label()
+        retry = JumpTarget()
         asm.place(retry)
         asm.emit("NEXT_CANDIDATE")
         for test in assignment.tests:
@@ -342,12 +342,12 @@ class _Codegen(ConditionVisitor):
         asm.place(bind)
         asm.emit("BIND")
 
-    def visit_var_assignment(self, assignment: VarAssignment, false_exit: Label) -> None:
+    def visit_var_assignment(self, assignment: VarAssignment, false_exit: JumpTarget) -> None:
         self.call(assignment.call, "CALL_F", False)
         self.asm.emit("SET_VAR", self.scope(assignment.scope),
                       self.text(_with("@", assignment.var.name.text)))
 
-    def visit_att_assignment(self, assignment: AttAssignment, false_exit: Label) -> None:
+    def visit_att_assignment(self, assignment: AttAssignment, false_exit: JumpTarget) -> None:
         # The alias is checked before the function is called, as the reference interpreter
         # does (runtime/evaluate.py): a function that fails is reported.
         alias = self.text(self.alias(assignment.alias, False))

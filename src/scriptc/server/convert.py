@@ -71,7 +71,7 @@ _MODIFIER_BIT = {name: 1 << i for i, name in enumerate(MODIFIERS)}
 
 class Json:
     """A result already in the protocol's JSON form (dicts, lists, numbers, strings): the
-    server sends it as it is (see `scriptc.server.main.Protocol`)."""
+    server sends it as it is (see `scriptc.server.main.ScriptcProtocol`)."""
 
     __slots__ = ("value",)
 

@@ -9,7 +9,7 @@ then calls one function of the editor API with offsets and converts the answer b
 Decisions:
 
 - **Documents are scriptc's own** (`scriptc.ide.document.Document`), not pygls's workspace:
-  the builtin open/change/close handlers are replaced (`Protocol`) so that an edit is applied
+  the builtin open/change/close handlers are replaced (`pyglsshim`) so that an edit is applied
   once, with the protocol's line breaks (pygls splits lines on `\\f`, `\\v`, U+2028... too)
   and with ranges that the protocol allows but pygls mishandles (past the end, between the
   halves of a surrogate pair) clamped or kept exact.
@@ -94,7 +94,7 @@ class Refusal(JsonRpcException):
     CODE = REQUEST_FAILED
 
 
-class Protocol(PyglsProtocol):
+class ScriptcProtocol(PyglsProtocol):
     """pygls's protocol (adjusted in `pyglsshim.py`) with the server's policies: completion
     lists and semantic tokens (`convert.Json`) sent as they are, how a failed request is
     answered, and pull diagnostics offered only to a client that will pull them."""
@@ -125,7 +125,7 @@ class Protocol(PyglsProtocol):
 
 class ScriptcServer(LanguageServer):
     def __init__(self) -> None:
-        super().__init__("scriptc", __version__, protocol_cls=Protocol,
+        super().__init__("scriptc", __version__, protocol_cls=ScriptcProtocol,
                          text_document_sync_kind=lsp.TextDocumentSyncKind.Incremental)
         self.documents: dict[str, Document] = {}
         self.push = True  # push diagnostics (pull requests are answered in any case)

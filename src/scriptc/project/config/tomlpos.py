@@ -33,7 +33,7 @@ class _Stop(Exception):
     """The scanner met text it cannot follow (never for a document tomllib accepted)."""
 
 
-class Positions:
+class KeySpans:
     """The spans of the keys and values of one document, by key path."""
 
     def __init__(self) -> None:
@@ -75,7 +75,7 @@ class _Scanner:
     def __init__(self, text: str) -> None:
         self.text = text
         self.pos = 0
-        self.out = Positions()
+        self.out = KeySpans()
         # Arrays of tables: resolved path -> how many elements have been opened.
         self.counts: dict[KeyPath, int] = {}
 
@@ -199,7 +199,7 @@ class _Scanner:
             self.out.keys.setdefault(path, span)
         return path
 
-    def document(self) -> Positions:
+    def document(self) -> KeySpans:
         table: KeyPath = ()
         n = len(self.text)
         while True:
@@ -273,7 +273,7 @@ class _Scanner:
         self.out.values[path] = Span(start, self.pos)
 
 
-def locate(text: str) -> Positions:
+def locate(text: str) -> KeySpans:
     """The positions of every key and value of a TOML document (see the module's docstring)."""
     scanner = _Scanner(text)
     try:

@@ -16,7 +16,7 @@ from functools import cache
 from typing import Any
 
 from scriptc.project.config.settings import run_time_refusal, selected_codes
-from scriptc.project.config.tomlpos import KeyPath, Positions, locate
+from scriptc.project.config.tomlpos import KeyPath, KeySpans, locate
 from scriptc.diagnostics.model import Diagnostic
 from scriptc.diagnostics.codes import diagnostic
 from scriptc.numbers import number_problem
@@ -71,11 +71,11 @@ class _Checker:
     def __init__(self, source: SourceFile, prefix: KeyPath) -> None:
         self.source = source
         self.prefix = prefix
-        self._positions: Positions | None = None
+        self._positions: KeySpans | None = None
         self.out: list[Diagnostic] = []
 
     @property
-    def positions(self) -> Positions:
+    def positions(self) -> KeySpans:
         if self._positions is None:
             self._positions = locate(self.source.text)
         return self._positions
