@@ -38,6 +38,8 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
+from fnmatch import fnmatchcase as fnmatch
+from functools import cache
 from pathlib import Path
 
 CASES = Path(__file__).parent.parent / "cases"
@@ -76,14 +78,20 @@ def beside(path: Path, suffix: str) -> Path:
     return path.with_name(stem(path) + suffix)
 
 
+@cache
+def _tree() -> tuple[Path, ...]:
+    """Every file under tests/cases/, sorted, leaving out hidden folders (a `.scriptc_cache`
+    that linting `config/repo` from an editor leaves at its root): listed once per run."""
+    return tuple(sorted(p for p in CASES.rglob("*") if p.is_file()
+                        and not any(part.startswith(".") for part in p.relative_to(CASES).parts)))
+
+
 def files(folder: str = "", pattern: str = "*", *, recursive: bool = True) -> list[Path]:
-    """The files under tests/cases/FOLDER matching `pattern`, sorted, leaving out hidden
-    folders (a `.scriptc_cache` that linting `config/repo` from an editor leaves at its
-    root)."""
+    """The files under tests/cases/FOLDER (in it alone, unless `recursive`) whose name
+    matches `pattern`, sorted."""
     base = CASES / folder
-    found = base.rglob(pattern) if recursive else base.glob(pattern)
-    return sorted(p for p in found if p.is_file()
-                  and not any(part.startswith(".") for part in p.relative_to(CASES).parts))
+    return [p for p in _tree() if fnmatch(p.name, pattern)
+            and (p.parent == base or recursive and p.is_relative_to(base))]
 
 
 @dataclass(frozen=True)
