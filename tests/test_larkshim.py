@@ -6,15 +6,29 @@ this file and tests/test_shapes.py."""
 from __future__ import annotations
 
 import re
+from typing import ClassVar
 
 import pytest
 
 from scriptc.syntax import larkshim
-from scriptc.syntax.larkshim import (CustomLexer, LalrTable, Lark, Token, Tree,
-                                     UnexpectedCharacters, UnexpectedToken, accepted_terminals,
-                                     in_lexer_order, lexed_text, lexer_configuration, lexer_of,
-                                     state_stack, terminal_literal, terminal_regexp,
-                                     token_from_match)
+from scriptc.syntax.larkshim import (
+    CustomLexer,
+    LalrTable,
+    Lark,
+    Token,
+    Tree,
+    UnexpectedCharacters,
+    UnexpectedToken,
+    accepted_terminals,
+    in_lexer_order,
+    lexed_text,
+    lexer_configuration,
+    lexer_of,
+    state_stack,
+    terminal_literal,
+    terminal_regexp,
+    token_from_match,
+)
 from scriptc.syntax.lexer import ContextualFastLexer
 from scriptc.syntax.parser import script_lark
 
@@ -55,7 +69,7 @@ def test_shift_and_reduce_actions(table: LalrTable) -> None:
     reductions = set()
     seen, todo = {start}, [start]
     while todo:
-        for name, (to, size, callback, origin) in table.actions(todo.pop()).items():
+        for to, size, callback, origin in table.actions(todo.pop()).values():
             if to is None:
                 assert size >= 0 and callable(callback) and isinstance(origin, str)
                 reductions.add(origin)
@@ -84,8 +98,8 @@ class Recording(ContextualFastLexer):
     """The custom lexer, keeping what lark hands it: its configuration, and per `lex` call the
     text, the parser's stack of states and what the current state accepts."""
 
-    confs: list = []
-    calls: list = []
+    confs: ClassVar[list] = []
+    calls: ClassVar[list] = []
 
     def __init__(self, lexer_conf) -> None:
         Recording.confs.append(lexer_conf)

@@ -32,16 +32,36 @@ from collections.abc import Callable, Iterable
 from typing import Any
 
 from lark import Lark, Token, Tree
-from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
+from lark.exceptions import (
+    UnexpectedCharacters,
+    UnexpectedEOF,
+    UnexpectedInput,
+    UnexpectedToken,
+)
 from lark.lexer import Lexer, PatternStr
 from lark.parsers.lalr_analysis import Shift
 
 __all__ = [
-    "Lark", "Tree", "Token", "UnexpectedInput", "UnexpectedToken", "UnexpectedCharacters",
-    "UnexpectedEOF", "CustomLexer", "LalrTable", "lexer_of", "lexer_configuration",
-    "lexed_text", "state_stack", "accepted_terminals", "unexpected_token",
-    "unexpected_characters", "token_from_match", "terminal_literal", "terminal_regexp",
+    "CustomLexer",
+    "LalrTable",
+    "Lark",
+    "Token",
+    "Tree",
+    "UnexpectedCharacters",
+    "UnexpectedEOF",
+    "UnexpectedInput",
+    "UnexpectedToken",
+    "accepted_terminals",
     "in_lexer_order",
+    "lexed_text",
+    "lexer_configuration",
+    "lexer_of",
+    "state_stack",
+    "terminal_literal",
+    "terminal_regexp",
+    "token_from_match",
+    "unexpected_characters",
+    "unexpected_token",
 ]
 
 
@@ -148,7 +168,7 @@ class LalrTable:
     """lark's LALR(1) parse table of a `Lark` and its tree-building callbacks, read as plain
     data: states are numbers, each with its actions by terminal (or non-terminal) name."""
 
-    __slots__ = ("_table", "_callbacks")
+    __slots__ = ("_callbacks", "_table")
 
     def __init__(self, lark: Lark) -> None:
         parser = lark.parser.parser.parser  # the LALR parser's core: its table and callbacks

@@ -13,10 +13,20 @@ from __future__ import annotations
 import re
 from collections.abc import Callable, Iterable
 
-from scriptc.syntax.larkshim import (CustomLexer, Token, accepted_terminals, in_lexer_order,
-                                     lexed_text, lexer_configuration, state_stack,
-                                     terminal_literal, terminal_regexp, token_from_match,
-                                     unexpected_characters, unexpected_token)
+from scriptc.syntax.larkshim import (
+    CustomLexer,
+    Token,
+    accepted_terminals,
+    in_lexer_order,
+    lexed_text,
+    lexer_configuration,
+    state_stack,
+    terminal_literal,
+    terminal_regexp,
+    token_from_match,
+    unexpected_characters,
+    unexpected_token,
+)
 
 
 class _Scanner:

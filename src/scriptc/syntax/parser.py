@@ -17,14 +17,25 @@ import re
 from dataclasses import dataclass, replace
 from functools import cache
 
-
-from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit
 from scriptc.diagnostics.codes import diagnostic
-from scriptc.language import NAME_CHARS, OPEN_COMMENT_PATTERN, OPEN_STRING_PATTERN, OPERATORS
+from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit
+from scriptc.language import (
+    NAME_CHARS,
+    OPEN_COMMENT_PATTERN,
+    OPEN_STRING_PATTERN,
+    OPERATORS,
+)
 from scriptc.resources import grammar_path
 from scriptc.source import Span
-from scriptc.syntax.larkshim import (Lark, Tree, UnexpectedCharacters, UnexpectedEOF,
-                                     UnexpectedInput, UnexpectedToken, terminal_literal)
+from scriptc.syntax.larkshim import (
+    Lark,
+    Tree,
+    UnexpectedCharacters,
+    UnexpectedEOF,
+    UnexpectedInput,
+    UnexpectedToken,
+    terminal_literal,
+)
 from scriptc.syntax.lexer import ContextualFastLexer
 from scriptc.syntax.scan import MAX_SYNTAX_ERRORS, Scan, scan
 from scriptc.syntax.shapes import ShapeParser

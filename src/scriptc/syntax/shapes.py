@@ -33,7 +33,14 @@ from __future__ import annotations
 
 import re
 
-from scriptc.syntax.larkshim import LalrTable, Lark, Token, Tree, lexer_of, token_from_match
+from scriptc.syntax.larkshim import (
+    LalrTable,
+    Lark,
+    Token,
+    Tree,
+    lexer_of,
+    token_from_match,
+)
 
 MAX_NODES = 50_000
 MAX_SHAPE_TOKENS = 2_000  # longer items are parsed, never recorded
