@@ -2,17 +2,39 @@
 
     .venv/bin/python bench/mutate.py src/scriptc/check/flow.py [MODULE ...] [--jobs 2]
         [--max N] [--only LINE[,LINE...]] [--show-survivors] [--json FILE]
+        [--map FILE [--refresh TESTS ...]]
 
 For each module it makes mutants, one change each, by rewriting the module's syntax tree:
 comparisons flipped (`<` to `<=`, `==` to `!=`, `in` to `not in`, ...), `and` and `or`
 swapped, `not` dropped, arithmetic operators swapped (`+` to `-`, ...), constants moved (a
 number `n` to `n + 1`, `True` to `False`, a non-empty string to another), and statements
 dropped (a statement replaced by `pass`; a `return x` by `return None`). Each mutant is run
-against the tests that cover the mutated line (coverage.py with one context per test, measured
-once per run over the whole suite), in a fresh interpreter whose `scriptc` is a copy of the
-source tree with that one change; it is *killed* when a test fails (or the tests time out:
-five times their normal duration), *survives* when they all pass, and counts as surviving when
-no test covers its line. The score of a module is killed / mutants.
+against the tests that cover the mutated line (coverage.py with one context per test item,
+parameters included, measured once per run over the whole suite), fastest first, in a fresh
+interpreter whose `scriptc` is a copy of the source tree with that one change; it is *killed*
+when a test fails (or the tests time out: five times their normal duration), *survives* when
+they all pass, and counts as surviving when no test covers its line. The score of a module is
+killed / mutants.
+
+The run works in a snapshot of the repository taken when it starts (tests, sources and data),
+so what others edit meanwhile does not change its figures (`--rev HEAD` takes a commit, with
+`--overlay PATH` for one's own files on top). Only tests that pass on the
+snapshot unmutated are used (one baseline run of them first): a test that fails already
+would "kill" every mutant. `--map FILE` keeps the coverage map (two to four minutes of the
+suite) between runs; a module edited since moves its lines with the text, and `--refresh
+tests/test_x.py` measures the tests written since and adds them.
+
+Both the coverage run and the mutants' runs use one hypothesis profile: derandomized (the same
+examples each time, so a run can be repeated), no deadline (a loaded machine must not kill a
+mutant) and no example database (a mutant's failing example must not be replayed later by the
+real suite).
+
+Some mutants cannot be told from the original by any test: the change does not alter what
+the module does (a `<` that cannot meet equality, a default that the caller always passes).
+bench/mutate_equivalent.toml lists them, each with the reason; they are left out of the score
+and counted apart ("equivalent"). An entry names the module, the mutated line's text and the
+change, so it follows the line when code moves above it, and lapses (with a warning) when the
+line itself changes.
 
 Tests that reach a module only through a subprocess (`scriptc ...` run as a program) are not
 seen by the coverage contexts: such mutants are tried against no test and survive. The
@@ -27,6 +49,7 @@ from __future__ import annotations
 import argparse
 import ast
 import copy
+import difflib
 import json
 import os
 import shutil
@@ -34,12 +57,53 @@ import subprocess
 import sys
 import tempfile
 import time
+import tomllib
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-SRC = ROOT / "src"
+EQUIVALENT = Path(__file__).resolve().parent / "mutate_equivalent.toml"
+
+# pytest plugins, written beside the snapshot. `mutate_profile` is loaded by every run (see
+# the docstring); `mutate_contexts` by the coverage run: one coverage context per test item
+# (its node id, parameters included: a case file's mutant then runs the cases that reach its
+# line, not the whole harness), set around setup, call and teardown, and each item's
+# duration; `mutate_outcomes` by the baseline run: the items that passed.
+_PLUGINS = {
+    "mutate_profile": """\
+from hypothesis import settings
+settings.register_profile("mutate", derandomize=True, deadline=None, database=None)
+settings.load_profile("mutate")
+""",
+    "mutate_contexts": """\
+import json, os
+import coverage, pytest
+_durations = {}
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_protocol(item, nextitem):
+    cov = coverage.Coverage.current()
+    cov.switch_context(item.nodeid)
+    yield
+    cov.switch_context("")
+def pytest_runtest_logreport(report):
+    _durations[report.nodeid] = _durations.get(report.nodeid, 0) + report.duration
+def pytest_sessionfinish(session):
+    with open(os.environ["MUTATE_REPORT"], "w") as f:
+        json.dump(_durations, f)
+""",
+    "mutate_outcomes": """\
+import json, os
+_failed, _seen = set(), set()
+def pytest_runtest_logreport(report):
+    _seen.add(report.nodeid)
+    if not report.passed and not (report.when == "call" and report.skipped):
+        _failed.add(report.nodeid)
+def pytest_sessionfinish(session):
+    with open(os.environ["MUTATE_REPORT"], "w") as f:
+        json.dump(sorted(_seen - _failed), f)
+""",
+}
 
 _COMPARE_SWAP = {
     ast.Lt: ast.LtE, ast.LtE: ast.Lt, ast.Gt: ast.GtE, ast.GtE: ast.Gt,
@@ -55,7 +119,7 @@ _BINOP_SWAP = {
 
 @dataclass(frozen=True)
 class Mutant:
-    path: Path          # the module's file
+    path: str           # the module's file, from the repository's root
     index: int          # which mutation site of the file, in walk order
     line: int           # the first line of the mutated node
     end_line: int
@@ -183,10 +247,10 @@ class _Replace(ast.NodeTransformer):
         return super().generic_visit(node)
 
 
-def mutants(path: Path) -> list[Mutant]:
-    """Every mutant of one module. Each is the whole module printed again by `ast.unparse`
-    (comments are lost; the meaning is the original's but for the one change)."""
-    text = path.read_text(encoding="utf-8")
+def mutants(text: str, path: str) -> list[Mutant]:
+    """Every mutant of one module (its text, its path). Each is the whole module printed again
+    by `ast.unparse` (comments are lost; the meaning is the original's but for the one
+    change)."""
     found = []
     sites = _sites(ast.parse(text))
     for index, (_node, kind, detail) in enumerate(sites):
@@ -198,7 +262,7 @@ def mutants(path: Path) -> list[Mutant]:
         ast.fix_missing_locations(mutated)
         try:
             source = ast.unparse(mutated)
-            compile(source, str(path), "exec")
+            compile(source, path, "exec")
         except (SyntaxError, ValueError):
             continue
         found.append(Mutant(path, index, node.lineno, getattr(node, "end_lineno", node.lineno)
@@ -207,104 +271,258 @@ def mutants(path: Path) -> list[Mutant]:
 
 
 # ---------------------------------------------------------------------------------------------
+# The snapshot the run works in
+
+def snapshot(dest: Path, rev: str | None = None, overlay: list[str] = ()) -> Path:
+    """A copy of the repository at `dest`: the files git tracks or would track in the working
+    tree, or the commit `rev`; then the working tree's files or folders `overlay` over it.
+
+    Other people may be editing the checkout while a run takes its hour: the run reads its
+    modules, makes its coverage map and runs every mutant in copies taken once at the start, so
+    its figures describe one state of the code and of the tests. A commit is a state someone
+    meant (a working tree shared with others may be half-way through their change); the
+    overlay adds one's own work on top."""
+    dest.mkdir(parents=True)
+    if rev is not None:
+        archive = subprocess.run(["git", "archive", "--format=tar", rev], cwd=ROOT,
+                                 capture_output=True, check=True).stdout
+        subprocess.run(["tar", "-x", "-C", str(dest)], input=archive, check=True)
+        names = []
+    else:
+        names = subprocess.run(["git", "ls-files", "-z", "--cached", "--others",
+                                "--exclude-standard"], cwd=ROOT, capture_output=True,
+                               check=True).stdout.decode().split("\0")
+    for item in overlay:
+        path = (ROOT / item).resolve()
+        if path.is_dir():
+            names += [p.relative_to(ROOT).as_posix() for p in path.rglob("*")
+                      if "__pycache__" not in p.parts]
+        else:
+            names.append(path.relative_to(ROOT).as_posix())
+    for name in names:
+        source = ROOT / name
+        if name and source.is_file():
+            target = dest / name
+            target.parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy2(source, target)
+    return dest
+
+
+def _pytest(work: Path, plugins: Path, args: list[str], report: Path | None = None,
+            timeout: float | None = None, capture: bool = False,
+            coverage_rc: Path | None = None) -> subprocess.CompletedProcess:
+    """pytest in the copy `work` (its `src` first on the path), with the plugins."""
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(work / "src"), str(plugins)]),
+               PYTHONDONTWRITEBYTECODE="1")
+    if report is not None:
+        env["MUTATE_REPORT"] = str(report)
+    runner = [sys.executable, "-m", "pytest"] if coverage_rc is None else \
+        [sys.executable, "-m", "coverage", "run", f"--rcfile={coverage_rc}", "-m", "pytest"]
+    return subprocess.run([*runner, "-q", "-p", "no:cacheprovider", "-p", "mutate_profile",
+                           "--no-header", "-o", "addopts=", *args],
+                          cwd=work, env=env, timeout=timeout,
+                          stdout=subprocess.PIPE if capture else subprocess.DEVNULL,
+                          stderr=subprocess.STDOUT if capture else subprocess.DEVNULL)
+
+
+# ---------------------------------------------------------------------------------------------
 # Which tests cover which lines
 
-def coverage_map(modules: list[Path], jobs_dir: Path) -> tuple[dict[Path, dict[int, set[str]]],
-                                                               dict[str, float]]:
+Lines = dict[str, dict[int, set[str]]]  # module path -> line -> node ids
+
+
+def coverage_map(work: Path, plugins: Path, modules: list[str], tests: list[str] = ()
+                 ) -> tuple[Lines, dict[str, float]]:
     """For each module, line -> the node ids of the tests that ran it; and the duration of
-    each test. One run of the whole suite under coverage.py with per-test contexts."""
-    rc = jobs_dir / "coveragerc"
-    data = jobs_dir / "coverage.data"
-    include = ",".join(str(m) for m in modules)
-    rc.write_text("[run]\nbranch = false\ndynamic_context = test_function\n"
+    each test. One run of the suite (or of `tests`, pytest arguments) under coverage.py with
+    per-test contexts."""
+    scratch = plugins.parent
+    rc = scratch / "coveragerc"
+    data = scratch / "coverage.data"
+    include = ",".join(str(work / m) for m in modules)
+    rc.write_text("[run]\nbranch = false\n"
                   f"data_file = {data}\ninclude = {include}\n", encoding="utf-8")
-    report = jobs_dir / "durations.json"
-    plugin = jobs_dir / "mutate_durations.py"
-    plugin.write_text(
-        "import json, time\n"
-        "_d = {}\n"
-        "def pytest_runtest_logreport(report):\n"
-        "    if report.when == 'call':\n"
-        "        _d[report.nodeid] = _d.get(report.nodeid, 0) + report.duration\n"
-        "def pytest_sessionfinish(session):\n"
-        f"    open({str(report)!r}, 'w').write(json.dumps(_d))\n", encoding="utf-8")
-    env = dict(os.environ, PYTHONPATH=str(jobs_dir))
-    subprocess.run([sys.executable, "-m", "coverage", "run", f"--rcfile={rc}", "-m", "pytest",
-                    "-q", "-p", "no:cacheprovider", "-p", "mutate_durations",
-                    "--no-header", "-o", "addopts="], cwd=ROOT, env=env, check=False,
-                   stdout=subprocess.DEVNULL)
-    out = jobs_dir / "coverage.json"
+    report = scratch / "durations.json"
+    # A test file that cannot be collected (someone's work in progress) must not stop the
+    # others: its tests are simply not in the map.
+    run = _pytest(work, plugins, ["-p", "mutate_contexts", "--continue-on-collection-errors",
+                                  *tests], report, capture=True, coverage_rc=rc)
+    summary = run.stdout.decode(errors="replace").strip().splitlines()
+    print(f"coverage run: {summary[-1] if summary else 'no output'}", flush=True)
+    out = scratch / "coverage.json"
     subprocess.run([sys.executable, "-m", "coverage", "json", f"--rcfile={rc}", "--show-contexts",
-                    "-o", str(out)], cwd=ROOT, check=True, stdout=subprocess.DEVNULL)
+                    "-o", str(out)], cwd=work, check=True, stdout=subprocess.DEVNULL)
     files = json.loads(out.read_text())["files"]
-    lines: dict[Path, dict[int, set[str]]] = {}
+    lines: Lines = {m: {} for m in modules}
     for name, entry in files.items():
-        path = (ROOT / name).resolve()
+        module = (work / name).resolve().relative_to(work.resolve()).as_posix()
         per_line: dict[int, set[str]] = {}
-        at_import: list[int] = []
         for line, contexts in entry.get("contexts", {}).items():
-            tests = {_node_id(c) for c in contexts if c}
-            if tests:
-                per_line[int(line)] = tests
-            elif "" in contexts:
-                at_import.append(int(line))
-        # Lines run when the module is imported (constants, tables) belong to no test: every
-        # test that runs the module's code depends on them.
+            per_line[int(line)] = {c for c in contexts if c}
+        # Lines run when the module is imported (constants, tables, default arguments) belong
+        # to whichever test imported it first, or to none: every test that runs the module's
+        # code depends on them.
         users = set().union(*per_line.values()) if per_line else set()
-        for line in at_import:
-            per_line[line] = users
-        lines[path] = per_line
+        for line in import_lines((work / module).read_text(encoding="utf-8")):
+            if line in per_line:
+                per_line[line] = set(users)
+        lines[module] = {k: v for k, v in per_line.items() if v}
+    data.unlink(missing_ok=True)
     durations = json.loads(report.read_text()) if report.exists() else {}
     return lines, durations
 
 
-def _node_id(context: str) -> str:
-    """coverage's test_function context (`tests.test_x.test_y|run`, or with a class,
-    `tests.test_x.TestZ.test_y|run`) as a pytest node id."""
-    name = context.split("|", 1)[0]
-    parts = name.split(".")
-    # The module is the longest prefix that is a file under the repository.
-    for cut in range(len(parts) - 1, 0, -1):
-        candidate = ROOT.joinpath(*parts[:cut]).with_suffix(".py")
-        if candidate.exists():
-            return "::".join([candidate.relative_to(ROOT).as_posix(), *parts[cut:]])
-    return name
+def passing(work: Path, plugins: Path, tests: list[str]) -> set[str]:
+    """Those of `tests` that pass on the unmutated copy: only they can tell a mutant (a test
+    that fails already, or cannot be collected, would 'kill' every mutant)."""
+    if not tests:
+        return set()  # (pytest without node ids would run the whole suite)
+    report = plugins.parent / "outcomes.json"
+    report.unlink(missing_ok=True)
+    _pytest(work, plugins, ["-p", "mutate_outcomes", "--continue-on-collection-errors",
+                            *tests], report)
+    return set(json.loads(report.read_text())) if report.exists() else set()
+
+
+def import_lines(text: str) -> set[int]:
+    """The lines of a module that run when it is imported: module and class bodies, with the
+    decorators and default arguments of their functions, not the functions' bodies."""
+    found: set[int] = set()
+
+    def span(node: ast.AST) -> None:
+        found.update(range(node.lineno, (node.end_lineno or node.lineno) + 1))
+
+    def body(stmts: list[ast.stmt]) -> None:
+        for stmt in stmts:
+            if isinstance(stmt, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                for node in [*stmt.decorator_list, *stmt.args.defaults,
+                             *(d for d in stmt.args.kw_defaults if d is not None)]:
+                    span(node)
+            elif isinstance(stmt, ast.ClassDef):
+                for node in [*stmt.decorator_list, *stmt.bases, *stmt.keywords]:
+                    span(node)
+                body(stmt.body)
+            elif isinstance(stmt, (ast.If, ast.Try)):  # may hold functions
+                for part in ("body", "orelse", "finalbody"):
+                    body(getattr(stmt, part, []))
+                for handler in getattr(stmt, "handlers", []):
+                    body(handler.body)
+                if isinstance(stmt, ast.If):
+                    span(stmt.test)
+            else:
+                span(stmt)
+
+    body(ast.parse(text).body)
+    return found
+
+
+def remap(per_line: dict[int, set[str]], old: str, new: str) -> dict[int, set[str]]:
+    """A map made for the text `old` of a module, moved onto its text `new`: lines kept by the
+    change keep their tests; the others (changed or added) get every test of the module."""
+    if old == new:
+        return per_line
+    matcher = difflib.SequenceMatcher(None, old.splitlines(), new.splitlines(), autojunk=False)
+    users = set().union(*per_line.values()) if per_line else set()
+    moved: dict[int, set[str]] = {}
+    for tag, i1, i2, j1, j2 in matcher.get_opcodes():
+        if tag == "equal":
+            for k in range(i2 - i1):
+                if i1 + k + 1 in per_line:
+                    moved[j1 + k + 1] = per_line[i1 + k + 1]
+        else:
+            for line in range(j1 + 1, j2 + 1):
+                moved[line] = set(users)
+    return moved
+
+
+def load_map(args, work: Path, plugins: Path, modules: list[str]
+             ) -> tuple[Lines, dict[str, float]]:
+    """The coverage map: made now, or read from --map (moved onto the modules' text now, and
+    with the --refresh tests measured again), and written back to --map."""
+    saved = None
+    if args.map is not None and args.map.exists():
+        saved = json.loads(args.map.read_text(encoding="utf-8"))
+        if saved.get("version") != 2 or not all(m in saved["lines"] for m in modules):
+            saved = None  # made for other modules, or by an older version of this tool
+    texts = {}
+    if saved is None:
+        lines, durations = coverage_map(work, plugins, modules)
+    else:
+        # The modules may have changed since the map was made (by the fix a survivor asked
+        # for): their lines move with the text.
+        lines = {}
+        for module, per in saved["lines"].items():
+            if (work / module).exists():
+                lines[module] = remap({int(k): set(v) for k, v in per.items()},
+                                      saved["texts"].get(module, ""),
+                                      (work / module).read_text(encoding="utf-8"))
+        durations = saved["durations"]
+        if args.refresh:
+            fresh, fresh_durations = coverage_map(work, plugins, sorted(lines), args.refresh)
+            files = {t.split("::", 1)[0] for t in fresh_durations}
+            for module, per in lines.items():
+                for line in list(per):
+                    per[line] = {t for t in per[line] if t.split("::", 1)[0] not in files}
+                for line, tests in fresh.get(module, {}).items():
+                    per.setdefault(line, set()).update(tests)
+            durations = {t: d for t, d in durations.items()
+                         if t.split("::", 1)[0] not in files} | fresh_durations
+    for module in lines:
+        texts[module] = (work / module).read_text(encoding="utf-8")
+    if args.map is not None:
+        args.map.write_text(json.dumps({
+            "version": 2,
+            "lines": {m: {k: sorted(v) for k, v in per.items()} for m, per in lines.items()},
+            "texts": texts, "durations": durations}), encoding="utf-8")
+    return lines, durations
 
 
 # ---------------------------------------------------------------------------------------------
 # Running one mutant
 
-def _tree_copy(base: Path) -> Path:
-    """A copy of src/scriptc with the grammar and schemas beside it, as in the checkout."""
-    shutil.copytree(SRC / "scriptc", base / "src" / "scriptc",
-                    ignore=shutil.ignore_patterns("__pycache__"))
-    for data in ("grammar", "schemas"):
-        os.symlink(ROOT / data, base / data)
-    return base / "src"
-
-
-def run_mutant(mutant: Mutant, tests: list[str], timeout: float, work: Path) -> str:
-    """'killed', 'survived' or 'timeout' (a kill) for one mutant, in the copy `work`."""
+def run_mutant(mutant: Mutant, tests: list[str], timeout: float, work: Path,
+               plugins: Path) -> str:
+    """'killed', 'survived' or 'timeout' (a kill) for one mutant, in the copy `work`, running
+    `tests` (node ids that pass on the original) in the order given and stopping at the first
+    failure; 'uncovered' when no test runs its line. pytest's other exit codes (a node id it
+    cannot find) are the tool's fault, not a kill: they stop the run."""
     if not tests:
         return "uncovered"
-    target = work / mutant.path.relative_to(SRC)
+    target = work / mutant.path
     original = target.read_text(encoding="utf-8")
     target.write_text(mutant.source, encoding="utf-8")
     try:
-        env = dict(os.environ, PYTHONPATH=str(work), PYTHONDONTWRITEBYTECODE="1")
-        # pytest's node ids of parametrized tests carry their parameters; coverage's contexts
-        # do not, so a test function is named by its file and name (every parameter runs).
         try:
-            result = subprocess.run(
-                [sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider",
-                 "--no-header", "-o", "addopts=", *sorted(tests)],
-                cwd=ROOT, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-                timeout=timeout)
+            result = _pytest(work, plugins, ["-x", *tests], timeout=timeout, capture=True)
         except subprocess.TimeoutExpired:
             return "timeout"
-        return "survived" if result.returncode == 0 else "killed"
+        if result.returncode == 0:
+            return "survived"
+        # 1: a test failed; 2: interrupted, which a mutant does by breaking an import that
+        # collection needs (the tests were collected on the original).
+        if result.returncode in (1, 2):
+            return "killed"
+        raise RuntimeError(f"pytest exited with {result.returncode} on {mutant.path}:"
+                           f"{mutant.line} ({mutant.what}):\n"
+                           + result.stdout.decode(errors="replace")[-2000:])
     finally:
         target.write_text(original, encoding="utf-8")
+
+
+@dataclass(frozen=True)
+class Equivalent:
+    module: str         # the module's path from the repository's root
+    line: str           # the mutated line's text, stripped
+    change: str         # the mutant's description, as printed
+    why: str
+
+
+def equivalents(path: Path = EQUIVALENT) -> list[Equivalent]:
+    """The mutants listed as equivalent to the original (see the docstring)."""
+    if not path.exists():
+        return []
+    entries = tomllib.loads(path.read_text(encoding="utf-8")).get("equivalent", [])
+    return [Equivalent(e["module"], e["line"].strip(), e["change"], e["why"]) for e in entries]
 
 
 def main() -> None:
@@ -317,55 +535,84 @@ def main() -> None:
     parser.add_argument("--json", type=Path, help="write every mutant's result here")
     parser.add_argument("--map", type=Path,
                         help="keep the coverage map in this file and reuse it when it exists "
-                             "(delete it when tests were added: new tests are not in it)")
+                             "(new tests are not in it: see --refresh)")
+    parser.add_argument("--rev", help="run on this commit instead of the working tree")
+    parser.add_argument("--overlay", action="append", default=[], metavar="PATH",
+                        help="with --rev: this file or folder of the working tree over the "
+                             "commit (repeatable)")
+    parser.add_argument("--refresh", action="append", default=[], metavar="TESTS",
+                        help="with --map: run these tests (a pytest argument: a file or a node "
+                             "id; repeatable) under coverage again and put them in the map")
     args = parser.parse_args()
-    modules = [m.resolve() for m in args.modules]
+    modules = [m.resolve().relative_to(ROOT).as_posix() for m in args.modules]
     only = {int(x) for x in args.only.split(",") if x}
 
     with tempfile.TemporaryDirectory(prefix="scriptc-mutate-") as tmp:
         tmp_path = Path(tmp)
+        plugins = tmp_path / "plugins"
+        plugins.mkdir()
+        for name, text in _PLUGINS.items():
+            (plugins / f"{name}.py").write_text(text, encoding="utf-8")
+        works = [snapshot(tmp_path / "w0", args.rev, args.overlay)]
+        for i in range(1, args.jobs):
+            works.append(tmp_path / f"w{i}")
+            shutil.copytree(works[0], works[i])
         started = time.perf_counter()
-        saved = None
-        if args.map is not None and args.map.exists():
-            saved = json.loads(args.map.read_text(encoding="utf-8"))
-            if not all(str(m) in saved["lines"] for m in modules):
-                saved = None  # made for other modules
-        if saved is not None:
-            lines = {Path(p): {int(k): set(v) for k, v in per.items()}
-                     for p, per in saved["lines"].items()}
-            durations = saved["durations"]
-        else:
-            lines, durations = coverage_map(modules, tmp_path)
-            if args.map is not None:
-                args.map.write_text(json.dumps({
-                    "lines": {str(p): {k: sorted(v) for k, v in per.items()}
-                              for p, per in lines.items()},
-                    "durations": durations}), encoding="utf-8")
-        print(f"coverage of the suite: {time.perf_counter() - started:.0f} s", flush=True)
-        works = [_tree_copy(tmp_path / f"w{i}") for i in range(args.jobs)]
-        free = list(works)
-        results: list[dict] = []
+        lines, durations = load_map(args, works[0], plugins, modules)
+        print(f"coverage map: {time.perf_counter() - started:.0f} s", flush=True)
+
+        listed = equivalents()
+        used: set[Equivalent] = set()
+        plans = []
         for module in modules:
-            found = mutants(module)
+            text = (works[0] / module).read_text(encoding="utf-8")
+            found = mutants(text, module)
             if only:
                 found = [m for m in found if m.line in only]
             if args.max:
                 found = found[:args.max]
+            text_lines = text.splitlines()
+            by_key = {(e.line, e.change): e for e in listed if e.module == module}
+            equivalent, kept = [], []
+            for m in found:
+                entry = by_key.get((text_lines[m.line - 1].strip(), m.what))
+                if entry is None:
+                    kept.append(m)
+                else:
+                    equivalent.append((m, entry))
+                    used.add(entry)
+            plans.append((module, text_lines, kept, equivalent))
+
+        # Only tests that pass on the original can tell a mutant from it.
+        started = time.perf_counter()
+        wanted = {t for module, _text, found, _eq in plans for m in found
+                  for line in range(m.line, m.end_line + 1)
+                  for t in lines.get(module, {}).get(line, ())}
+        good = passing(works[0], plugins, sorted(wanted))
+        if wanted - good:
+            print(f"warning: {len(wanted - good)} tests of the map fail, are gone or cannot be "
+                  f"collected, and are left out (e.g. {min(wanted - good)})", flush=True)
+        print(f"baseline of {len(good)} tests: {time.perf_counter() - started:.0f} s",
+              flush=True)
+
+        free = list(works)
+        results: list[dict] = []
+        for module, text_lines, found, equivalent in plans:
             covered = lines.get(module, {})
 
             def tests_of(m: Mutant) -> list[str]:
                 hit: set[str] = set()
                 for line in range(m.line, m.end_line + 1):
                     hit |= covered.get(line, set())
-                # Test functions, not their parameters (see run_mutant).
-                return sorted({t.split("[", 1)[0] for t in hit})
+                # Fastest first: most mutants are killed by the first test that fails.
+                return sorted(hit & good, key=lambda t: (durations.get(t, 0.5), t))
 
             def one(m: Mutant) -> tuple[Mutant, str]:
                 work = free.pop()
                 try:
                     tests = tests_of(m)
                     budget = sum(durations.get(t, 0.5) for t in tests)
-                    return m, run_mutant(m, tests, max(20.0, 5 * budget + 10), work)
+                    return m, run_mutant(m, tests, max(20.0, 5 * budget + 10), work, plugins)
                 finally:
                     free.append(work)
 
@@ -374,14 +621,21 @@ def main() -> None:
                 outcomes = list(pool.map(one, found))
             killed = sum(1 for _m, r in outcomes if r in ("killed", "timeout"))
             total = len(outcomes)
-            rel = module.relative_to(ROOT)
             score = 100.0 * killed / total if total else 100.0
-            print(f"{rel}: {total} mutants, {killed} killed, {score:.1f}% "
-                  f"({time.perf_counter() - started:.0f} s)", flush=True)
+            print(f"{module}: {total} mutants, {killed} killed, {score:.1f}%"
+                  + (f" ({len(equivalent)} equivalent, left out)" if equivalent else "")
+                  + f" ({time.perf_counter() - started:.0f} s)", flush=True)
             for m, r in outcomes:
-                results.append({"file": str(rel), "line": m.line, "what": m.what, "result": r})
+                results.append({"file": module, "line": m.line, "what": m.what, "result": r})
                 if args.show_survivors and r in ("survived", "uncovered"):
-                    print(f"  {rel}:{m.line}: {m.what} ({r})")
+                    print(f"  {module}:{m.line}: {m.what} ({r})  {text_lines[m.line - 1].strip()}")
+            for m, entry in equivalent:
+                results.append({"file": module, "line": m.line, "what": m.what,
+                                "result": "equivalent", "why": entry.why})
+        for entry in listed:
+            if entry not in used and entry.module in modules and not only and not args.max:
+                print(f"warning: {EQUIVALENT.name} lists a mutant no longer made: "
+                      f"{entry.module}: {entry.line!r}: {entry.change}", flush=True)
         if args.json:
             args.json.write_text(json.dumps(results, indent=1), encoding="utf-8")
 
