@@ -14,7 +14,8 @@ from pathlib import Path
 import pytest
 
 SCRIPT = "[clean_act]\n[goal:g]\n[action]\n[b##blk_inst: MV() LD() AO()]\n[b##blk_terminus]\n"
-HEAVY = ("pygls", "lsprotocol", "mujoco", "jsonschema", "rich", "hypothesis", "watchfiles")
+HEAVY = ("pygls", "lsprotocol", "mujoco", "jsonschema", "fastjsonschema", "rich", "hypothesis",
+         "watchfiles")
 
 PROBE = """
 import json, sys
