@@ -5,9 +5,8 @@ from __future__ import annotations
 
 import json
 
-import pytest
-
 import harness
+import pytest
 from harness.diagnostics import parsed
 
 CHECKS = harness.checks()
@@ -67,9 +66,10 @@ def test_bytecode_refuses_what_no_vm_could_run() -> None:
     """The runtime cases left out of the VM's runs are refused by code generation, with the
     reason."""
     from harness.runtime import NOT_IN_BYTECODE, RUNTIME
+
     from scriptc.analysis.analyze import analyze_file
-    from scriptc.ops.build import emit
     from scriptc.emit.codegen import CodegenError
+    from scriptc.ops.build import emit
 
     for name in NOT_IN_BYTECODE:
         path = RUNTIME / f"{name}.script"

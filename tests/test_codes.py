@@ -4,7 +4,6 @@ and every entry is well formed. Each failure names what is missing and where."""
 
 from __future__ import annotations
 
-import ast
 import re
 from pathlib import Path
 
@@ -27,14 +26,17 @@ def lowercase_start(text: str) -> bool:
     return not text[:1].isupper() or text[:2].isupper()
 
 
+# A code as a string of its own in Python source: `"L003"` or `'L003'`.
+QUOTED_CODE = re.compile(r"""(?<![\w"'])(["'])([A-Z][0-9]{3})\1""")
+
+
 def test_every_code_the_code_reports_is_registered() -> None:
     """A code written anywhere in the package (`diagnostic("L009", ...)`) has its entry."""
     missing = {}
     for path in sorted(SRC.rglob("*.py")):
-        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
-            if isinstance(node, ast.Constant) and isinstance(node.value, str) \
-                    and CODE.fullmatch(node.value) and node.value not in codes.REGISTRY:
-                missing.setdefault(node.value, []).append(str(path.relative_to(SRC.parent)))
+        for m in QUOTED_CODE.finditer(path.read_text(encoding="utf-8")):
+            if m.group(2) not in codes.REGISTRY:
+                missing.setdefault(m.group(2), []).append(str(path.relative_to(SRC.parent)))
     assert not missing, (f"codes used but not in the registry (add an entry to "
                          f"src/scriptc/diagnostics/codes.py): {missing}")
 

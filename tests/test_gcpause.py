@@ -34,6 +34,7 @@ def test_the_collector_is_off_during_the_pause_and_as_it_was_after() -> None:
     assert not gc.isenabled()  # a pause inside a pause (or a disabled collector) keeps it off
 
 
+@pytest.mark.slow
 def test_what_a_long_pause_built_goes_to_the_oldest_generation_without_a_scan() -> None:
     gc.collect()
     with gc_paused():

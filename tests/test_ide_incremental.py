@@ -61,6 +61,7 @@ def assert_same_as_lint(doc: Document) -> None:
 # -- the incremental path is the one taken -------------------------------------------------------
 
 
+@pytest.mark.slow
 def test_a_keystroke_reparses_one_item() -> None:
     text = big_script(560)  # about 90 KB
     doc = Document("big", text)
@@ -116,6 +117,7 @@ ALPHABET = list('[]#(){}",%!?:>&@$ \nabcxyzMVLDAO0123456789.') + [
     "% scriptc: ignore[F001] %"]
 
 
+@pytest.mark.slow
 def test_random_edits_equal_a_fresh_analysis() -> None:
     """Random edits, mostly small and inside items (what typing does), some anywhere."""
     rng = random.Random(5)
@@ -137,6 +139,7 @@ def test_random_edits_equal_a_fresh_analysis() -> None:
     assert steps > 500
 
 
+@pytest.mark.slow
 def test_typing_through_a_large_script() -> None:
     """Digits typed into and deleted from numbers all over a valid script: the checks run
     every time, and the pads take every keystroke."""

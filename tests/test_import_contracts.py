@@ -11,6 +11,8 @@ import sys
 import tomllib
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -22,6 +24,7 @@ def lint_imports(*args: str, cwd: Path = ROOT) -> subprocess.CompletedProcess:
                           capture_output=True, text=True, timeout=120, check=False)
 
 
+@pytest.mark.slow
 def test_every_import_contract_is_kept() -> None:
     done = lint_imports()
     assert done.returncode == 0, done.stdout + done.stderr
@@ -31,6 +34,7 @@ def test_every_import_contract_is_kept() -> None:
         assert f"{contract['name']} KEPT" in done.stdout, contract["name"]
 
 
+@pytest.mark.slow
 def test_a_broken_contract_fails(tmp_path: Path) -> None:
     """The check can fail: a contract the code breaks (syntax/ itself imports lark, through
     its shim) is reported, by name, with the import that breaks it."""

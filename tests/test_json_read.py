@@ -256,6 +256,7 @@ def test_numbers_keep_their_text() -> None:
 # -- imports ---------------------------------------------------------------------------------
 
 
+@pytest.mark.slow
 def test_jsonschema_is_imported_only_when_validating() -> None:
     code = ("import sys, scriptc.frontend.thesis_json, scriptc.frontend.jsonpos, scriptc.emit.json, "
             "scriptc.emit.script, scriptc.emit.condition\n"

@@ -9,6 +9,7 @@ import re
 import tomllib
 from pathlib import Path
 
+import pytest
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
@@ -55,6 +56,7 @@ def _same_on_edges(ours: str, theirs: str):
     return check
 
 
+@pytest.mark.slow
 def test_the_patterns_are_the_grammars_terminals() -> None:
     """language.py reads the terminals from the grammar files; lark reads the same (its
     groups made non-capturing, which changes no match)."""
@@ -160,6 +162,7 @@ def test_item_words_are_exactly_the_names_that_cannot_name_an_activity() -> None
         assert _is_activity_name_in_scripts(word) == language.is_activity_name(word), word
 
 
+@pytest.mark.slow
 @FAST
 @given(CANDIDATES)
 @example("action")
@@ -176,6 +179,7 @@ def _config_text(name: str) -> str:
             "arity = 0\nimplementation = \"operator:truth\"\n")
 
 
+@pytest.mark.slow
 @FAST
 @given(CANDIDATES)
 @example("wave-hands")
@@ -224,6 +228,7 @@ def test_the_run_time_refuses_what_is_not_a_name() -> None:
 THESIS = (ROOT / "tests" / "data" / "test_act.json").read_text(encoding="utf-8")
 
 
+@pytest.mark.slow
 @FAST
 @given(CANDIDATES)
 @example("action")

@@ -45,6 +45,7 @@ def steps_of(*moves, profile: Profile = DEFAULT_PROFILE):
 # A centred ramp on the grid
 
 
+@pytest.mark.slow
 @given(st.floats(-1.6, 1.6), st.floats(-1.6, 1.6), st.sampled_from([0.3, 1.0, 2.0, 3.0]),
        st.integers(0, 5000))
 def test_a_centred_ramp_covers_the_distance_of_the_step(v0: float, v1: float, rate: float,
@@ -166,6 +167,7 @@ def said(message: str) -> tuple[float, float]:
     return position, float(rad.group(1)) if rad else 0.0
 
 
+@pytest.mark.slow
 @SLOW
 @given(moves_within_the_profile(), st.sampled_from([0, 0, 100, 200, 600]))
 def test_k003_says_where_the_governed_robot_ends(moves, tail: int) -> None:
@@ -187,6 +189,7 @@ def test_k003_says_where_the_governed_robot_ends(moves, tail: int) -> None:
             assert h == pytest.approx(heading, abs=0.0006)
 
 
+@pytest.mark.slow
 @SLOW
 @given(moves_within_the_profile(turning=False), moves_within_the_profile(turning=False),
        st.sampled_from([0, 0, 300]))

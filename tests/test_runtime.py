@@ -768,6 +768,7 @@ def test_the_runtime_never_reads_the_wall_clock() -> None:
     assert not offenders
 
 
+@pytest.mark.slow
 def test_scriptc_run_stays_light(tmp_path: Path) -> None:
     """A run without a scenario imports neither jsonschema nor rich (not a terminal), pygls or
     mujoco."""

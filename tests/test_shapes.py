@@ -58,12 +58,14 @@ def all_case_items() -> list[str]:
     return texts
 
 
+@pytest.mark.slow
 def test_the_trees_of_every_case_file_are_larks() -> None:
     texts = all_case_items()
     assert len(texts) > 500
     agree(ShapeParser(script_lark(), "item"), script_lark(), texts)
 
 
+@pytest.mark.slow
 def test_the_trees_are_larks_in_any_order() -> None:
     texts = all_case_items()
     agree(ShapeParser(script_lark(), "item"), script_lark(), texts[::-1])

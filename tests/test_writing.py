@@ -197,6 +197,7 @@ def test_the_name_of_a_descriptor_is_written_to(here: Path) -> None:
     assert leftovers(here) == []
 
 
+@pytest.mark.slow
 def test_dash_is_stdout(here: Path) -> None:
     result = subprocess.run([sys.executable, "-m", "scriptc", "compile", "clean.script",
                              "--emit", "bytecode", "-o", "-"], capture_output=True, cwd=here,
@@ -246,6 +247,7 @@ def test_run_refuses_an_unwritable_plot_or_trace_before_the_run(here: Path, monk
     assert trace.exit_code == 2 and "cannot write `traces`: it is a folder" in trace.stderr
 
 
+@pytest.mark.slow
 def test_a_plot_that_cannot_be_written_at_the_end_keeps_the_summary(here: Path,
                                                                     monkeypatch) -> None:
     from scriptc.runtime.session import Session
@@ -309,6 +311,7 @@ def test_a_failed_plot_leaves_the_old_picture(here: Path) -> None:
     assert leftovers(here) == []
 
 
+@pytest.mark.slow
 def test_cache_entries_that_cannot_be_written_leave_nothing_behind(here: Path) -> None:
     from scriptc.project.cache import Cache
 

@@ -184,8 +184,8 @@ EXAMPLE = ROOT / "examples" / "test_act.script"
 
 
 def _listing(path: Path, listing: Path) -> None:
-    from scriptc.bytecode import disassemble, encode, load
     from scriptc.analysis.analyze import analyze_bytes
+    from scriptc.bytecode import disassemble, encode, load
     from scriptc.emit.codegen import codegen
 
     found = analyze_bytes(path.name, path.read_bytes())

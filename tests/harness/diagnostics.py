@@ -133,8 +133,7 @@ def changed_lines(before: str, after: str, spans: Sequence[Span]) -> list[str]:
 def _shown(line: str) -> str:
     """A line without its `\\n`, every other control character as its control picture (a
     `\\r\\n` line break shows as `␍`)."""
-    if line.endswith("\n"):
-        line = line[:-1]
+    line = line.removesuffix("\n")
     return "".join(chr(0x2400 + ord(ch)) if ord(ch) < 0x20 else "\u2421" if ch == "\x7f" else ch
                    for ch in line)
 
