@@ -72,3 +72,18 @@ def test_colour_on_demand_loads_rich_only_for_markdown(folder: Path) -> None:
     probe can tell, since an explanation's markdown in colour does import it."""
     assert "rich" not in loaded_after(["--color", "always", "lint", "b.script"], folder)
     assert "rich" in loaded_after(["--color", "always", "explain", "L003"], folder)
+
+
+@pytest.mark.slow
+def test_a_check_of_valid_json_imports_no_schema_library(folder: Path) -> None:
+    """The yes or no of thesis JSON is the schema compiled ahead of time
+    (frontend/thesis_validator.py): compiling it with fastjsonschema at run time cost a cold
+    `scriptc check` about 50 ms and the import 20 more; jsonschema (~180 ms) words only what
+    is wrong with an invalid document."""
+    data = (Path(__file__).parent / "data" / "test_act.json").read_bytes()
+    (folder / "act.json").write_bytes(data)
+    loaded = loaded_after(["check", "act.json"], folder)
+    assert "scriptc" in loaded
+    assert not loaded & {"jsonschema", "fastjsonschema"}, loaded & {"jsonschema", "fastjsonschema"}
+    (folder / "bad.json").write_text('{"activityname": 3}', encoding="utf-8")
+    assert "jsonschema" in loaded_after(["check", "bad.json"], folder)

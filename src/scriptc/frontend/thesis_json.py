@@ -22,9 +22,10 @@ carries: the IR stays honest about the jump pointing nowhere, and a checker run 
 the unknown label.
 
 The IR is built only from a document of the right shape: after J001 or J002 the script is None.
-A valid document is recognised by fastjsonschema (the schema file compiled to Python code);
-jsonschema runs only on a document that is not valid, to list what is wrong. Both are imported
-on first use, so no lint of scripts pays for them.
+A valid document is recognised by the schema file compiled to Python code ahead of time
+(`thesis_validator.py`, fastjsonschema's output, kept current by `python -m scriptc.generate`);
+jsonschema runs only on a document that is not valid, to list what is wrong, and is imported
+then, so neither a lint of scripts nor a check of a valid document pays for it.
 """
 
 from __future__ import annotations
@@ -130,23 +131,16 @@ def _validator():
     return jsonschema.Draft202012Validator(_schema())
 
 
-@cache
-def _fast_validator():
-    """fastjsonschema's validator of the shipped schema: the schema compiled to Python code,
-    which says yes to a valid document far sooner than jsonschema (a 10,000-block file: a
-    fifth of a second, where jsonschema takes seconds), and raises on the first error without
-    saying much. Compiled on first use, so only a reader of thesis JSON imports it."""
-    import fastjsonschema
-
-    return fastjsonschema.compile(_schema()), fastjsonschema.JsonSchemaException
-
-
 def _is_valid(instance: object) -> bool:
-    """Whether the document is valid (tests hold the answer equal to jsonschema's)."""
-    validate, invalid = _fast_validator()
+    """Whether the document is valid (tests hold the answer equal to jsonschema's). The schema
+    compiled to Python by fastjsonschema (`thesis_validator.py`, generated from the schema
+    file by `python -m scriptc.generate`) says yes to a valid document far sooner than
+    jsonschema (a 10,000-block file: a fifth of a second, where jsonschema takes seconds)."""
+    from scriptc.frontend.thesis_validator import JsonSchemaValueException, validate
+
     try:
         validate(instance)
-    except invalid:
+    except JsonSchemaValueException:
         return False
     return True
 
