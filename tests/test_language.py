@@ -130,6 +130,33 @@ def test_quote_and_unescape_are_inverse(value: str) -> None:
         "\n" not in value and "\r" not in value)
 
 
+def _is_string(text: str) -> bool:
+    """A string literal, read by hand: quotes around characters that are neither a quote, a
+    backslash nor a line break, or a backslash and any character but a line break."""
+    if len(text) < 2 or text[0] != '"' or text[-1] != '"':
+        return False
+    i, end = 1, len(text) - 1
+    while i < end:
+        ch = text[i]
+        if ch in "\n\r" or ch == '"':
+            return False
+        if ch == "\\":
+            if i + 1 >= end or text[i + 1] in "\n\r":
+                return False
+            i += 1
+        i += 1
+    return True
+
+
+@FAST
+@given(st.text(alphabet='ab"\\\n\r ', max_size=12))
+@example('"a\\"')
+@example('"\\\\"')
+@example('"a\\\nb"')
+def test_the_string_pattern_is_the_string_literal(text: str) -> None:
+    assert (re.fullmatch(language.STRING_PATTERN, text) is not None) == _is_string(text)
+
+
 def test_unescape_keeps_unknown_escapes() -> None:
     assert language.unescape('a\\qb\\"c\\\\') == 'a\\qb"c\\'
 
