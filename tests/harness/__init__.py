@@ -22,7 +22,8 @@ The aspects (inputs, then what each writes beside them):
 - `fmt`: `fmt/NAME.script`: `NAME.fmt.script`, what the formatter writes; formatting it again
   changes nothing, and it compiles to the same JSON (or the same codes) as the input. The
   output is a script, so it has its own `NAME.fmt.diagnostics`.
-- `listing`: `bytecode/NAME.script`: `NAME.dis`, the listing of its bytecode (`scriptc dis`).
+- `listing`: `bytecode/NAME.script`: `NAME.dis`, the listing of its bytecode (`scriptc dis`);
+  the thesis's listing 4.1, `examples/test_act.script`, has its listing in `bytecode/` too.
 - `ide`: `ide/FEATURE_NAME.script`, a script with the cursor written `$0`: `NAME.expect`, what
   the editor feature answers there (harness/ide.py).
 - `trace`: `runtime/NAME.script` (or `.json`) with its scenarios `NAME[.VARIANT].world`:
@@ -36,6 +37,7 @@ expected output nor a support file (`SUPPORT`: a case repository's configuration
 
 from __future__ import annotations
 
+import difflib
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from fnmatch import fnmatchcase as fnmatch
@@ -56,7 +58,11 @@ def expect(path: Path, actual: str) -> None:
         return
     assert path.exists(), f"missing expected file {relative(path)} (run `pytest --bless`)"
     expected = path.read_bytes().decode("utf-8")
-    assert actual == expected, f"{relative(path)} differs from the actual output:\n{actual}"
+    if actual != expected:
+        diff = difflib.unified_diff(expected.splitlines(keepends=True),
+                                    actual.splitlines(keepends=True), "expected", "actual")
+        raise AssertionError(f"{relative(path)} is not what the code writes now (`pytest "
+                             f"--bless` writes it; read the diff first):\n{''.join(diff)}")
 
 
 def relative(path: Path) -> str:
