@@ -20,6 +20,10 @@ from scriptc.source import Span
 # Inside an item, the characters that change what follows.
 _ITEM_SPECIAL = re.compile(r'[\[\]"%]')
 _STRING = re.compile(STRING_PATTERN)
+# A whole item without a comment or a problem inside, in one match: what `_scan_item` finds
+# character by special character, at regex speed (possessive: linear when it fails, and the
+# item is then scanned the long way, which reports what is wrong).
+_PLAIN_ITEM = re.compile(rf'\[(?:[^\[\]"%]++|{STRING_PATTERN})*+\]')
 _STRAY = re.compile(r"[^\[%\s][^\[%]*")
 _SPACE = re.compile(r"\s*")
 
@@ -115,6 +119,10 @@ def _unterminated_comment(text: str, pos: int) -> Diagnostic:
 
 def _scan_item(text: str, start: int, result: Scan) -> int:
     """Scan the item opening at `start`; return where scanning continues (-1: stop)."""
+    plain = _PLAIN_ITEM.match(text, start)
+    if plain is not None:
+        result.items.append(RawItem(Span(start, plain.end())))
+        return plain.end()
     pos = start + 1
     broken = False  # set when a problem inside the item was reported here
     while True:
