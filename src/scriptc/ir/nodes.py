@@ -16,13 +16,17 @@ from __future__ import annotations
 
 import math
 from dataclasses import MISSING, dataclass, fields
-from typing import Union
+from typing import TypeVar, Union, dataclass_transform
 
 from scriptc.numbers import whole_number
 from scriptc.source import Span
 
 
-def node(cls):
+_Node = TypeVar("_Node")
+
+
+@dataclass_transform(frozen_default=True)
+def node(cls: type[_Node]) -> type[_Node]:
     """`@dataclass(frozen=True, slots=True)`, built faster: the generated `__init__` of a frozen
     dataclass sets each field through `object.__setattr__`, a third of the cost of lowering a
     large script; this one calls each slot's own setter (same objects, same equality, hash and
