@@ -587,7 +587,16 @@ def test_scenario_errors_name_the_file_and_the_place(tmp_path: Path) -> None:
     path.write_bytes(b'{"description": "ok",\n "x\xff": 1}')
     with pytest.raises(ScenarioError) as info:
         load_scenario(str(path))
-    assert info.value.lines() == [f"scenario {path}:2:4: not UTF-8 text (byte 25 of the file)"]
+    assert info.value.lines() == [f"scenario {path}:2:4: the file is not UTF-8 text: byte 0xff "
+                                  "is not valid UTF-8 (byte 25 of the file)"]
+    # A byte order mark is dropped (and counted in the file's bytes, not in the columns).
+    path.write_bytes(b'\xef\xbb\xbf{"description": "ok",\n "x\xff": 1}')
+    with pytest.raises(ScenarioError) as info:
+        load_scenario(str(path))
+    assert info.value.lines() == [f"scenario {path}:2:4: the file is not UTF-8 text: byte 0xff "
+                                  "is not valid UTF-8 (byte 28 of the file)"]
+    path.write_bytes(b'\xef\xbb\xbf{"description": "ok"}')
+    assert load_scenario(str(path)).updates == []
 
 
 def test_a_jsonmsg_text_is_pointed_into(tmp_path: Path) -> None:

@@ -14,7 +14,8 @@ how it is written, the same way everywhere:
   which `check_target` raises *before* the work whose result the file will hold.
 
 A new file gets the usual permissions (0666 less the umask). Text is written as UTF-8, exactly
-(no newline translation); `encode_like` keeps the byte order mark of the file it replaces.
+(no newline translation); `scriptc.encoding.encode_like` keeps the byte order mark of the file
+it replaces.
 Ctrl-C is held back while a file is put in place (`scriptc.interrupt.deferred`), so it never
 leaves a temporary file or half a file. This module imports only the standard library and
 `scriptc.interrupt`, so anything may use it.
@@ -33,24 +34,8 @@ from scriptc.interrupt import deferred
 
 STDOUT = "-"
 
-# The UTF-8 byte order mark: some Windows editors start files with it. Readers skip it
-# (`without_bom`: scripts, thesis JSON, configurations); whatever rewrites a file keeps it
-# (`encode_like`).
-UTF8_BOM = b"\xef\xbb\xbf"
-
-
-def without_bom(data: bytes) -> bytes:
-    """A file's bytes without the UTF-8 byte order mark it may start with."""
-    return data[len(UTF8_BOM):] if data.startswith(UTF8_BOM) else data
-
-
 class WriteError(Exception):
     """A file that cannot be written; the message names it and says what to do."""
-
-
-def encode_like(text: str, original: bytes) -> bytes:
-    """`text` as UTF-8, with a byte order mark when the file it replaces (`original`) had one."""
-    return (UTF8_BOM if original.startswith(UTF8_BOM) else b"") + text.encode("utf-8")
 
 
 def _reason(exc: OSError) -> str:

@@ -16,8 +16,9 @@ from collections.abc import Callable, Iterator
 
 from scriptc.analysis.analyze import Analysis
 from scriptc.analysis.read import ReadError, decode_source, read_bytes
+from scriptc.encoding import encode_like
 from scriptc.paths import shown_path
-from scriptc.writing import WriteError, encode_like, write_file
+from scriptc.writing import WriteError, write_file
 
 __all__ = ["FileFormat", "FormatRun", "unified_diff"]
 

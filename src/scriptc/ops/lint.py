@@ -29,11 +29,12 @@ from scriptc.analysis.analyze import Analysis, analyze_source
 from scriptc.analysis.read import ReadError, decode_source, read_bytes
 from scriptc.diagnostics.edits import apply_fixes
 from scriptc.diagnostics.model import Diagnostic, has_errors
+from scriptc.encoding import encode_like
 from scriptc.paths import shown_path
 from scriptc.project.files import discover
 from scriptc.project.setup import Setup, function_registry
 from scriptc.source import SourceFile, SourceKind
-from scriptc.writing import WriteError, encode_like, write_file
+from scriptc.writing import WriteError, write_file
 
 __all__ = [
     "MAX_FIX_ROUNDS",

@@ -24,7 +24,7 @@ from typing import Any
 
 from scriptc.paths import repository_root, shown_path
 from scriptc.source import SourceKind
-from scriptc.writing import without_bom
+from scriptc.encoding import without_bom
 
 SCRIPT_SUFFIX = ".script"
 

@@ -29,9 +29,11 @@ from dataclasses import dataclass, field
 from functools import cache
 from typing import Any
 
+from scriptc.analysis.read import ReadError, read_bytes
+from scriptc.encoding import decode
+from scriptc.frontend.jsonpos import JsonError, JsonNode, Member, parse_json, string_offsets
 from scriptc.runtime.world import JSONMSG_DEPTH, MapUpdate, UpdateError, parse_update
 from scriptc.source import SourceFile, Span
-from scriptc.frontend.jsonpos import JsonError, JsonNode, Member, parse_json, string_offsets
 
 SCHEMA_NAME = "scenario.schema.json"
 
@@ -303,20 +305,14 @@ def scenario_from_data(data: Any, path: str = "<scenario>", folder: str | None =
 def load_scenario(path: str) -> Scenario:
     """Read and check a scenario file; raises ScenarioError (also when it cannot be read)."""
     try:
-        with open(path, "rb") as f:
-            raw = f.read()
-    except FileNotFoundError:
-        raise ScenarioError(path, ["the file does not exist"]) from None
-    except IsADirectoryError:
-        raise ScenarioError(path, ["it is a directory, not a file"]) from None
-    except OSError as exc:
-        raise ScenarioError(path, [f"cannot read it: {exc.strerror or exc}"]) from None
-    try:
-        text = raw.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        before = raw[:exc.start]
-        line = before.count(b"\n") + 1
-        column = len(before[before.rfind(b"\n") + 1:].decode("utf-8", errors="replace")) + 1
-        raise ScenarioError(path, [f"not UTF-8 text (byte {exc.start} of the file)"],
-                            [(line, column)]) from None
+        raw = read_bytes(path)
+    except ReadError as exc:
+        raise ScenarioError(path, [exc.reason]) from None
+    decoded = decode(raw)
+    text = decoded.text
+    if decoded.bad is not None:
+        line = text.count("\n", 0, decoded.bad) + 1
+        column = decoded.bad - (text.rfind("\n", 0, decoded.bad) + 1) + 1
+        raise ScenarioError(path, [f"{decoded.problem} (byte {decoded.byte} of the file)"],
+                            [(line, column)])
     return scenario_from_text(text, path, os.path.dirname(os.path.abspath(path)))

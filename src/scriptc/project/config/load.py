@@ -18,17 +18,24 @@ import re
 import sys
 from typing import Any, NamedTuple
 
-from scriptc.project.config.settings import (ALL, IMPLEMENTATION_PATTERN, SEVERITIES, RuleSelection,
-                                             Settings, UserFunction, UserRule)
-from scriptc.diagnostics.model import Diagnostic
 from scriptc.diagnostics.codes import diagnostic
+from scriptc.diagnostics.model import Diagnostic
+from scriptc.encoding import decode
 from scriptc.language import FUNCTION_KINDS, is_name
 from scriptc.numbers import MAX_DIGITS, number_problem
 from scriptc.paths import shown_path
+from scriptc.project.config.settings import (
+    ALL,
+    IMPLEMENTATION_PATTERN,
+    SEVERITIES,
+    RuleSelection,
+    Settings,
+    UserFunction,
+    UserRule,
+)
 from scriptc.robot.limits import LIMITS
 from scriptc.robot.profile import Profile
 from scriptc.source import SourceFile, Span
-from scriptc.writing import without_bom
 
 CONFIG_FILES = ("scriptc.toml", "pyproject.toml")
 # Patterns are compiled on first use (`re` caches them): most runs never need them.
@@ -191,14 +198,14 @@ def load_config(path: str, cache: Any = None, *, pyproject: bool | None = None) 
             diagnostic("C005", "the configuration file cannot be read", Span(0, 0))])
     file_digest = digest(data)
     base = Settings(path=path, root=root, digest=file_digest)
-    try:
-        text = without_bom(data).decode("utf-8")
-    except UnicodeDecodeError as exc:
-        source = SourceFile(shown, data.decode("utf-8", errors="replace"))
-        return ConfigFile(base, source, [diagnostic(
-            "C005", "the configuration is not valid TOML: it is not UTF-8 text",
-            Span(exc.start, exc.start + 1))])
+    decoded = decode(data)
+    text = decoded.text
     source = SourceFile(shown, text)
+    if decoded.bad is not None:
+        return ConfigFile(base, source, [diagnostic(
+            "C005", f"the configuration is not valid TOML: {decoded.problem}",
+            Span(decoded.bad, min(decoded.bad + 1, len(text))),
+            notes=[f"at byte offset {decoded.byte} of the file"])])
     try:
         document = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
