@@ -49,11 +49,12 @@ def human_size(size: int) -> str:
     """`812 bytes`, `61.2 KB`, `3.0 MB`, `1.5 GB`: a size as people read it."""
     if size < 1024:
         return f"{size} bytes"
+    scaled = float(size)
     for unit in ("KB", "MB"):
-        size /= 1024
-        if size < 1024:
-            return f"{size:.1f} {unit}"
-    return f"{size / 1024:.1f} GB"
+        scaled /= 1024
+        if scaled < 1024:
+            return f"{scaled:.1f} {unit}"
+    return f"{scaled / 1024:.1f} GB"
 
 
 def caches_below(path: str) -> list[str]:

@@ -16,6 +16,9 @@ from scriptc.diagnostics.render import FORMATS, LINT_FORMATS, render
 from scriptc.paths import same_file
 
 if TYPE_CHECKING:
+    from rich.progress import Progress as Bar
+    from rich.progress import TaskID
+
     from scriptc.analysis.analyze import Analysis
     from scriptc.ops.lint import LintOptions
     from scriptc.project.setup import Setup
@@ -275,8 +278,7 @@ class Progress:
 
     def __init__(self, quiet: bool = False) -> None:
         self.enabled = not quiet and _stderr_is_terminal()
-        self._bar = None
-        self._task = None
+        self._bar: tuple[Bar, TaskID] | None = None  # the bar shown, and its one task
         self.done = self.total = 0  # the last figures, for the message of an interruption
 
     def __call__(self, done: int, total: int) -> None:
@@ -296,17 +298,18 @@ class Progress:
             # No refresh thread (auto_refresh off, refreshed on each update): worker
             # processes are forked while the bar runs, and a fork must not copy a thread
             # that may hold a lock.
-            self._bar = Bar(TextColumn("linting"), BarColumn(), MofNCompleteColumn(),
-                            TimeRemainingColumn(), console=Console(stderr=True), transient=True,
-                            auto_refresh=False)
-            self._bar.start()
-            self._task = self._bar.add_task("lint", total=total)
-        self._bar.update(self._task, completed=done, total=total)
-        self._bar.refresh()
+            bar = Bar(TextColumn("linting"), BarColumn(), MofNCompleteColumn(),
+                      TimeRemainingColumn(), console=Console(stderr=True), transient=True,
+                      auto_refresh=False)
+            bar.start()
+            self._bar = bar, bar.add_task("lint", total=total)
+        bar, task = self._bar
+        bar.update(task, completed=done, total=total)
+        bar.refresh()
 
     def close(self) -> None:
         if self._bar is not None:
-            self._bar.stop()
+            self._bar[0].stop()
             self._bar = None
 
 

@@ -52,4 +52,5 @@ def command(ctx: click.Context, file: str, output: str | None, back_end: str,
     show([analysis], err=True)
     if not analysis.ok:
         ctx.exit(1)
+    assert analysis.script is not None  # `ok`: the script was read
     write_output(output, emit(analysis.script, back_end, analysis.source))

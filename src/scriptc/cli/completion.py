@@ -22,6 +22,9 @@ def command(shell: str) -> None:
 
     from scriptc.cli.main import cli
 
-    completer = get_completion_class(shell)(cli, {}, "scriptc", COMPLETE_VAR)
+    completion_class = get_completion_class(shell)
+    # click.Choice(SHELLS) lets through only shells click has a completion class for.
+    assert completion_class is not None, shell
+    completer = completion_class(cli, {}, "scriptc", COMPLETE_VAR)
     script = completer.source()
     click.echo(script, nl=not script.endswith("\n"))  # one newline at the end, as click's own

@@ -24,7 +24,7 @@ def command(code: str | None, all_: bool, format_: str) -> None:
 
     if all_ == (code is not None):
         raise click.UsageError("give either a CODE or --all")
-    if all_:
+    if code is None:  # --all
         entries = codes.all_codes()
         if format_ == "json":
             import json

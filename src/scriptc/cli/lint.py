@@ -23,7 +23,7 @@ import os
 import click
 
 from scriptc.cli.common import (CliError, check_output, lint_format_option, lint_report,
-                                report_paths, stdin_name_option)
+                                stdin_name_option)
 from scriptc.paths import same_file
 from scriptc.source import SourceKind
 
@@ -164,13 +164,13 @@ def command(ctx: click.Context, paths: tuple[str, ...], format_: str, stdin_name
                           fix=fix and not diff, config=config, isolated=isolated,
                           force_exclude=force_exclude, diff=diff, unsafe_fixes=unsafe_fixes,
                           selection=selection)
-    reporting = dict(quiet=quiet, statistics=statistics, output_file=output_file,
-                     exit_zero=exit_zero)
+
+    def report() -> int:
+        return lint_report(paths, SourceKind.SCRIPT, format_, stdin_name, options, quiet=quiet,
+                           statistics=statistics, output_file=output_file, exit_zero=exit_zero)
+
     if not watch:
-        report_paths(ctx, paths, SourceKind.SCRIPT, format_, stdin_name, options, **reporting)
+        ctx.exit(report())
     from scriptc.cli.watch import watch as watch_paths
 
-    ctx.exit(watch_paths(
-        paths, lambda: lint_report(paths, SourceKind.SCRIPT, format_, stdin_name, options,
-                                   **reporting),
-        clear=output_file is None))
+    ctx.exit(watch_paths(paths, report, clear=output_file is None))

@@ -175,6 +175,7 @@ def command(ctx: click.Context, files: tuple[str, ...], world: str | None, until
         from scriptc.runtime.plot import plot_run
         from scriptc.writing import WriteError
 
+        assert recorder is not None  # made with `--plot`
         try:
             plot_run(trace.events, plot_path, recorder.samples, scenario)
         except WriteError as exc:

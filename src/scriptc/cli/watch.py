@@ -13,7 +13,7 @@ from __future__ import annotations
 import os
 import sys
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Collection
 
 from scriptc.project.cache import CACHE_DIR_NAME
 from scriptc.cli.common import CliError, write
@@ -62,6 +62,7 @@ class Watched:
         if path in self.files:
             return True
         name = os.path.basename(path)
+        folders: Collection[str]
         if name in WATCHED_NAMES:
             folders = self.targets
         elif name.endswith(".script"):

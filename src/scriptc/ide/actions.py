@@ -9,6 +9,7 @@ safe fixes (`Fix.safe`) are marked preferred, so an editor may apply them at onc
 from __future__ import annotations
 
 from scriptc.diagnostics.edits import compatible
+from scriptc.diagnostics.model import Diagnostic, TextEdit
 from scriptc.ide.answers import CodeAction
 from scriptc.ide.snapshot import Snapshot
 from scriptc.source import Span
@@ -45,18 +46,19 @@ def code_actions(snapshot: Snapshot, span: Span, only: tuple[str, ...] | None = 
 def fix_all(snapshot: Snapshot) -> CodeAction | None:
     """Every safe fix of the document that can go with the others (the one overlap rule of
     `diagnostics.edits`, as `lint --fix` applies them), as one action."""
-    candidates = [d for d in snapshot.diagnostics
-                  if d.fix is not None and d.fix.safe and d.fix.edits]
-    taken = iter(compatible([d.fix for d in candidates]))
-    fixed = []
+    candidates = [(d, fix) for d in snapshot.diagnostics
+                  if (fix := d.fix) is not None and fix.safe and fix.edits]
+    taken = iter(compatible([fix for _, fix in candidates]))
+    fixed: list[Diagnostic] = []
+    edits: list[TextEdit] = []
     next_fix = next(taken, None)
-    for d in candidates:  # `compatible` keeps the order: walk both lists together
-        if d.fix is next_fix:
+    for d, fix in candidates:  # `compatible` keeps the order: walk both lists together
+        if fix is next_fix:
             fixed.append(d)
+            edits.extend(fix.edits)
             next_fix = next(taken, None)
     if not fixed:
         return None
-    edits = sorted((e for d in fixed for e in d.fix.edits),
-                   key=lambda e: (e.span.start, e.span.end))
+    edits.sort(key=lambda e: (e.span.start, e.span.end))
     title = f"Apply {len(fixed)} safe fix{'es' * (len(fixed) != 1)} (scriptc)"
     return CodeAction(title, "source.fixAll", tuple(edits), tuple(fixed), False)

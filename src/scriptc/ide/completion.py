@@ -147,7 +147,9 @@ def complete(snapshot: Snapshot, offset: int) -> list[CompletionItem]:
     prefix = _blank(snapshot.text[item.span.start:offset])
     if prefix is None:
         return []
-    word = _WORD_CHARS.search(prefix).group()
+    found = _WORD_CHARS.search(prefix)
+    assert found is not None  # the pattern matches, if only the empty word at the end
+    word = found.group()
     span = Span(offset - len(word), offset)
     return _Completer(snapshot, prefix, span).run()
 
@@ -172,8 +174,9 @@ class _Completer:
                     for name, snippet, doc in _BLOCKS]
         if _JUMP_TARGET.search(p):
             return self.labels()
-        if _MESSAGE_FIELD.match(p):
-            return self.message(p)
+        message = _MESSAGE_FIELD.match(p)
+        if message:
+            return self.message(message)
         if "CND" in p:
             found = self.condition(p)
             if found is not None:
@@ -239,8 +242,8 @@ class _Completer:
 
     # -- rule messages ------------------------------------------------------------------------
 
-    def message(self, p: str) -> list[CompletionItem]:
-        m = _MESSAGE_FIELD.match(p)
+    def message(self, m: re.Match[str]) -> list[CompletionItem]:
+        """In a rule message: `m` is `_MESSAGE_FIELD`'s match of the prefix."""
         kind, fields = m.group(1), m.group(2)
         field_index = fields.count(",")
         if field_index == 1:
@@ -300,7 +303,7 @@ class _Completer:
         else:
             here = re.findall(_BINDING + re.escape(alias) + f"(?!{NAME_CHAR})", p)
             cls = here[-1] if here else self.snapshot.index.alias_class(alias)
-        names = list(CLASSES) if cls not in CLASSES else [cls]
+        names = [c for c in CLASSES if c == cls] or list(CLASSES)  # the class, if known
         seen: dict[str, CompletionItem] = {}
         for c in names:
             for f in CLASSES[c]:

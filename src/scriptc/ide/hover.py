@@ -25,6 +25,7 @@ from scriptc.ir.nodes import (
     JumpBlock,
     LedCommand,
     MoveCommand,
+    Script,
     SensorBlock,
     TerminusBlock,
 )
@@ -40,12 +41,14 @@ _MAX_COMMANDS = 4
 
 
 def hover(snapshot: Snapshot, offset: int) -> Hover | None:
-    if snapshot.in_comment(offset) is not None:
+    script = snapshot.script
+    if script is None or snapshot.in_comment(offset) is not None:
+        # In a comment, or no item could be read (the index is empty): only codes to explain.
         return _code_hover(snapshot, offset)
     index = snapshot.index
     occurrence = index.occurrence_at(offset)
     if occurrence is not None:
-        found = _occurrence_hover(snapshot, occurrence)
+        found = _occurrence_hover(snapshot, script, occurrence)
         if found is not None:
             return found
     code = _code_hover(snapshot, offset)
@@ -59,10 +62,10 @@ def hover(snapshot: Snapshot, offset: int) -> Hover | None:
         return Hover(block_markdown(snapshot, info), item.span)
     message = index.messages.get(item.span.start)
     if message is not None:
-        return Hover(_rule_markdown(snapshot, message.id.text), item.span)
+        return Hover(_rule_markdown(snapshot, script, message.id.text), item.span)
     goal = index.goals.get(item.span.start)
     if goal is not None:
-        return Hover(_goal_markdown(snapshot, goal), item.span)
+        return Hover(_goal_markdown(script, goal), item.span)
     return None
 
 
@@ -110,12 +113,12 @@ def _line(snapshot: Snapshot, offset: int) -> int:
     return snapshot.source.position(offset).line
 
 
-def _occurrence_hover(snapshot: Snapshot, o: Occurrence) -> Hover | None:
-    text = _occurrence_markdown(snapshot, o)
+def _occurrence_hover(snapshot: Snapshot, script: Script, o: Occurrence) -> Hover | None:
+    text = _occurrence_markdown(snapshot, script, o)
     return Hover(text, o.span) if text else None
 
 
-def _occurrence_markdown(snapshot: Snapshot, o: Occurrence) -> str | None:
+def _occurrence_markdown(snapshot: Snapshot, script: Script, o: Occurrence) -> str | None:
     index = snapshot.index
     kind, name = o.kind, o.name
     if kind == "label":
@@ -136,7 +139,8 @@ def _occurrence_markdown(snapshot: Snapshot, o: Occurrence) -> str | None:
     if kind == "class":
         return class_markdown(name)
     if kind == "field":
-        return field_markdown(name, o.detail)
+        # A field's detail is the class it belongs to, None when unknown.
+        return field_markdown(name, o.detail if isinstance(o.detail, str) else None)
     if kind == "scope":
         meaning = SCOPES.get(name)
         return f"**scope** `{name}`: the binding lasts {meaning}" if meaning else None
@@ -149,15 +153,14 @@ def _occurrence_markdown(snapshot: Snapshot, o: Occurrence) -> str | None:
         word = OPERATORS.get(name)
         return f"`{name}`: the field is {word} the value" if word else None
     if kind == "rule":
-        return _rule_markdown(snapshot, name)
+        return _rule_markdown(snapshot, script, name)
     if kind in ("action-letter", "mutex-letter"):
         table, what = (RULE_ACTIONS, "rule action") if kind == "action-letter" else (MUTEXES, "mutex")
         meaning = table.get(name)
         return f"**{what}** `{name}`: {meaning}" if meaning else None
     if kind == "goal":
-        return _goal_markdown(snapshot, o.detail)
+        return _goal_markdown(script, o.detail)
     if kind == "activity":
-        script = snapshot.script
         blocks = len(index.block_list)
         return (f"**activity** `{name}`: {len(script.goals)} goal{'s' * (len(script.goals) != 1)}, "
                 f"{blocks} block{'s' * (blocks != 1)}")
@@ -194,10 +197,10 @@ def field_markdown(name: str, cls: str | None) -> str | None:
         if f is not None:
             return f"**field** `{name}` of `{cls}` ({f.type}): {f.doc}"
         return None
-    owners = [c for c in CLASSES if field_of(c, name) is not None]
+    owners = {c: f for c in CLASSES if (f := field_of(c, name)) is not None}
     if not owners:
         return None
-    f = field_of(owners[0], name)
+    f = next(iter(owners.values()))  # the first owner's field tells the type and meaning
     return f"**field** `{name}` ({f.type}) of {', '.join(f'`{c}`' for c in owners)}: {f.doc}"
 
 
@@ -212,8 +215,8 @@ def _alias_markdown(snapshot: Snapshot, name: str) -> str:
     return f"**alias** `{name}`, bound by a CLASS assignment:\n\n{sites}{more}"
 
 
-def _rule_markdown(snapshot: Snapshot, rule_id: str) -> str:
-    messages = [m for m in (*snapshot.script.alfa, *snapshot.script.omega) if m.id.text == rule_id]
+def _rule_markdown(snapshot: Snapshot, script: Script, rule_id: str) -> str:
+    messages = [m for m in (*script.alfa, *script.omega) if m.id.text == rule_id]
     lines = [f"**rule** `{rule_id}`"]
     for m in messages:
         lines.append(f"- line {_line(snapshot, m.span.start)}, {m.kind} (rulecode {m.rulecode.text}): "
@@ -222,8 +225,8 @@ def _rule_markdown(snapshot: Snapshot, rule_id: str) -> str:
     return "\n".join(lines[:1]) + "\n\n" + "\n".join(lines[1:])
 
 
-def _goal_markdown(snapshot: Snapshot, goal) -> str:
-    g = snapshot.script.goals.index(goal)
+def _goal_markdown(script: Script, goal) -> str:
+    g = script.goals.index(goal)
     blocks = sum(len(a.blocks) for a in goal.actions)
     return (f"**goal** `{goal.id.text}` (`goal{g}`): {len(goal.actions)} "
             f"action{'s' * (len(goal.actions) != 1)}, {blocks} block{'s' * (blocks != 1)}")

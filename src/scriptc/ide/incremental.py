@@ -52,6 +52,7 @@ from scriptc.ir.shift import shift
 from scriptc.source import SourceFile, Span
 from scriptc.syntax import parser as _parser
 from scriptc.syntax import scan as _scan
+from scriptc.syntax.larkshim import UnexpectedInput
 from scriptc.syntax.parser import ParsedScript
 from scriptc.syntax.scan import RawItem, Scan
 
@@ -128,7 +129,7 @@ class _CachingParser:
                 a._stats.parsed += 1
                 try:
                     entry = _Entry(self._lark.parse(text, start=start), None)
-                except _parser.UnexpectedInput as error:
+                except UnexpectedInput as error:
                     entry = _Entry(None, _bare(error))
             else:
                 a._stats.reused_parses += 1
@@ -231,7 +232,8 @@ class Analyzer:
         self._text = ""  # the analysis text
         self._pads: dict[int, int] = {}  # analysis offset -> length
         self._scanned: Scan | None = None  # the last scan (analysis offsets)
-        self._rescan = None  # (index, item, new end) after an edit inside one item
+        # (index, item, new end) after an edit inside one item
+        self._rescan: tuple[int, RawItem, int] | None = None
 
     # -- the analysis text --------------------------------------------------------------------
 
@@ -281,7 +283,7 @@ class Analyzer:
         self._text, self._pads = analysis, pads
         return True
 
-    def _item_around(self, a: int, b: int):
+    def _item_around(self, a: int, b: int) -> tuple[int, RawItem] | None:
         """The closed item of the last scan holding `[a, b]` strictly inside its brackets,
         with its index."""
         items = self._scanned.items if self._scanned is not None else []

@@ -36,6 +36,7 @@ from scriptc.ir.nodes import (
     Condition,
     FieldRef,
     FieldTest,
+    Goal,
     InstructionBlock,
     JumpBlock,
     RuleMessage,
@@ -97,9 +98,12 @@ def block_duration(block: Block) -> float | None:
     blocks (reading a jump, a sensor block or a terminus takes no time)."""
     if not isinstance(block, InstructionBlock):
         return 0
-    times = [track_time(t) for t in (block.moves, block.leds, block.audios)]
-    if any(t is None for t in times):
-        return None
+    times: list[float] = []
+    for track in (block.moves, block.leds, block.audios):
+        time = track_time(track)
+        if time is None:
+            return None
+        times.append(time)
     return max(times)
 
 
@@ -122,7 +126,7 @@ class ScriptIndex:
         self._items: dict[int, list[Occurrence]] = {}
         self._tables: Tables | None = None
         self._bindings: dict[str, list[ClassAssignment]] | None = None
-        self.goals: dict[int, object] = {}  # by item start
+        self.goals: dict[int, Goal] = {}  # by item start
         script = snapshot.script
         if script is None:  # no item could be read: an index with nothing in it
             return

@@ -71,18 +71,24 @@ def references(snapshot: Snapshot, offset: int, include_declaration: bool = True
 def prepare_rename(snapshot: Snapshot, offset: int) -> tuple[Span, str]:
     """The span of the name to rename and its text; RenameError when there is none or the
     rename cannot be done now."""
+    o = _renamable(snapshot, offset)
+    return o.span, o.name
+
+
+def _renamable(snapshot: Snapshot, offset: int) -> Occurrence:
+    """The name to rename at `offset`; RenameError when there is none or the rename cannot
+    be done now."""
     o = _symbol(snapshot, offset)
     if o is None:
         raise RenameError("only labels, aliases and rule ids can be renamed")
     if snapshot.has_syntax_errors:
         raise RenameError(f"the script has syntax errors: fix them first, or some uses of "
                           f"`{o.name}` could be missed")
-    return o.span, o.name
+    return o
 
 
 def rename(snapshot: Snapshot, offset: int, new_name: str) -> list[TextEdit]:
-    prepare_rename(snapshot, offset)
-    o = _symbol(snapshot, offset)
+    o = _renamable(snapshot, offset)
     what = _WHAT[o.kind]
     new = new_name.strip()
     if o.kind == "alias":

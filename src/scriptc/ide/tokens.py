@@ -193,7 +193,7 @@ def _is_scope_position(lexed, i) -> bool:
     """True when the alias at `lexed[i]` is the one a CLASS assignment binds: `#Class SCOPE
     ?alias`."""
     j = i - 1
-    seen = []
+    seen: list[str] = []  # the groups of the two tokens before, comments skipped
     while j >= 0 and len(seen) < 2:
         if lexed[j][0] != "comment":
             seen.append(lexed[j][0])

@@ -24,6 +24,7 @@ cannot hold half a character).
 from __future__ import annotations
 
 from functools import cache
+from typing import Any
 
 from lsprotocol import types as lsp
 
@@ -68,6 +69,11 @@ _SYMBOL_KIND = {
 _FOLD_KIND = {"region": lsp.FoldingRangeKind.Region, "comment": lsp.FoldingRangeKind.Comment}
 _TYPE_INDEX = {name: i for i, name in enumerate(TYPES)}
 _MODIFIER_BIT = {name: 1 << i for i, name in enumerate(MODIFIERS)}
+
+# A JSON object of the protocol built here and sent as it is (`Json`): its values are any
+# JSON (objects, arrays, numbers, strings).
+JsonObject = dict[str, Any]
+
 
 class Json:
     """A result already in the protocol's JSON form (dicts, lists, numbers, strings): the
@@ -284,7 +290,7 @@ def hover(p: Positions, h: answers.Hover | None) -> lsp.Hover | None:
     return lsp.Hover(lsp.MarkupContent(lsp.MarkupKind.Markdown, h.markdown), p.range(h.span))
 
 
-def _json_range(r: lsp.Range) -> dict:
+def _json_range(r: lsp.Range) -> JsonObject:
     return {"start": {"line": r.start.line, "character": r.start.character},
             "end": {"line": r.end.line, "character": r.end.character}}
 
@@ -294,15 +300,15 @@ def completion_list(p: Positions, items: list[answers.CompletionItem], snippets:
     """A CompletionList, in JSON form (a large script has hundreds of labels to propose).
     Documentation is markdown when the client says it reads markdown, else plain text."""
     out = []
-    ranges: dict[Span, dict] = {}
+    ranges: dict[Span, JsonObject] = {}
     for item in items:
         r = ranges.get(item.span)
         if r is None:
             r = ranges[item.span] = _json_range(p.range(item.span))
         use_snippet = snippets and item.snippet is not None
-        entry = {"label": item.label,
-                 "textEdit": {"range": r, "newText": item.snippet if use_snippet
-                              else (item.insert_text or item.label)}}
+        entry: JsonObject = {"label": item.label,
+                             "textEdit": {"range": r, "newText": item.snippet if use_snippet
+                                          else (item.insert_text or item.label)}}
         kind = _COMPLETION_KIND.get(item.kind)
         if kind is not None:
             entry["kind"] = int(kind)

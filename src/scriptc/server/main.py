@@ -101,6 +101,13 @@ class ScriptcProtocol(PyglsProtocol):
 
     raw_results = convert.Json
 
+    @property
+    def server(self) -> ScriptcServer:
+        """The scriptc server this protocol serves (`ScriptcServer` makes it its protocol)."""
+        server = super().server
+        assert isinstance(server, ScriptcServer), server
+        return server
+
     def error_answer(self, error: BaseException, msg_id) -> JsonRpcException | None:
         """A `Refusal` is answered as it is, without the traceback pygls logs at ERROR for
         every error response; a bug (any other exception) is logged with its traceback on
@@ -441,15 +448,25 @@ def explain(ls: ScriptcServer, *args) -> str | None:
 
 class At:
     """Where a request is, as its handler reads it: the `document`, its `snapshot` (None
-    for a feature of the text alone: formatting), the `positions` converter of the text the
-    feature works on, and the `offset` of the request's position (None without one)."""
+    for a feature of the text alone: formatting) and the `positions` converter of the text
+    the feature works on."""
 
-    __slots__ = ("document", "offset", "positions", "snapshot")
+    __slots__ = ("document", "positions", "snapshot")
 
-    def __init__(self, document: Document, snapshot, positions, offset: int | None) -> None:
+    def __init__(self, document: Document, snapshot, positions) -> None:
         self.document = document
         self.snapshot = snapshot
         self.positions = positions
+
+
+class AtPosition(At):
+    """Where a request at a position is (`_request(..., position=True)`): `At`, and the
+    `offset` of the request's position."""
+
+    __slots__ = ("offset",)
+
+    def __init__(self, document: Document, snapshot, positions, offset: int) -> None:
+        super().__init__(document, snapshot, positions)
         self.offset = offset
 
 
@@ -458,7 +475,8 @@ def _request(method: str, options=None, *, analysed: bool = True, position: bool
     document (None answers a request about a document that is not open), its snapshot when
     the feature reads the analysis (`analysed`; else its own text: formatting's edits are of
     the document's text), the positions in the negotiated encoding, and the offset of
-    `params.position` (`position`). The handler gets `(ls, params, at)`."""
+    `params.position` (`position`). The handler gets `(ls, params, at)`, `at` an `At`, or an
+    `AtPosition` with `position`."""
 
     def register(answer):
         def handle(ls: ScriptcServer, params):
@@ -470,13 +488,14 @@ def _request(method: str, options=None, *, analysed: bool = True, position: bool
                 positions = convert.positions(snapshot, ls.encoding)
             else:
                 snapshot, positions = None, convert.text_positions(doc.text, ls.encoding)
-            offset = positions.offset(params.position) if position else None
-            return answer(ls, params, At(doc, snapshot, positions, offset))
+            if position:
+                offset = positions.offset(params.position)
+                return answer(ls, params, AtPosition(doc, snapshot, positions, offset))
+            return answer(ls, params, At(doc, snapshot, positions))
 
         handle.__name__ = answer.__name__
         handle.__qualname__ = answer.__qualname__
         handle.__doc__ = answer.__doc__
-        handle.answers = answer  # the one path's mark (tests/test_server_requests.py)
         SERVER.feature(method, options)(handle)
         return handle
 
@@ -484,26 +503,26 @@ def _request(method: str, options=None, *, analysed: bool = True, position: bool
 
 
 @_request(lsp.TEXT_DOCUMENT_HOVER, position=True)
-def on_hover(ls: ScriptcServer, params: lsp.HoverParams, at: At):
+def on_hover(ls: ScriptcServer, params: lsp.HoverParams, at: AtPosition):
     return convert.hover(at.positions, hover.hover(at.snapshot, at.offset))
 
 
 @_request(lsp.TEXT_DOCUMENT_COMPLETION,
           lsp.CompletionOptions(trigger_characters=["[", "#", "(", ":", "&", "?", "{", ","]),
           position=True)
-def on_completion(ls: ScriptcServer, params: lsp.CompletionParams, at: At):
+def on_completion(ls: ScriptcServer, params: lsp.CompletionParams, at: AtPosition):
     return convert.completion_list(at.positions, completion.complete(at.snapshot, at.offset),
                                    ls.snippets, ls.markdown_docs)
 
 
 @_request(lsp.TEXT_DOCUMENT_DEFINITION, position=True)
-def on_definition(ls: ScriptcServer, params: lsp.DefinitionParams, at: At):
+def on_definition(ls: ScriptcServer, params: lsp.DefinitionParams, at: AtPosition):
     spans = navigation.definition(at.snapshot, at.offset)
     return convert.locations(at.positions, params.text_document.uri, spans) or None
 
 
 @_request(lsp.TEXT_DOCUMENT_REFERENCES, position=True)
-def on_references(ls: ScriptcServer, params: lsp.ReferenceParams, at: At):
+def on_references(ls: ScriptcServer, params: lsp.ReferenceParams, at: AtPosition):
     spans = navigation.references(at.snapshot, at.offset, params.context.include_declaration)
     return convert.locations(at.positions, params.text_document.uri, spans) or None
 
@@ -513,7 +532,7 @@ def _rename_failed(error: RenameError) -> Refusal:
 
 
 @_request(lsp.TEXT_DOCUMENT_PREPARE_RENAME, position=True)
-def on_prepare_rename(ls: ScriptcServer, params: lsp.PrepareRenameParams, at: At):
+def on_prepare_rename(ls: ScriptcServer, params: lsp.PrepareRenameParams, at: AtPosition):
     try:
         span, name = navigation.prepare_rename(at.snapshot, at.offset)
     except RenameError as error:
@@ -522,7 +541,7 @@ def on_prepare_rename(ls: ScriptcServer, params: lsp.PrepareRenameParams, at: At
 
 
 @_request(lsp.TEXT_DOCUMENT_RENAME, lsp.RenameOptions(prepare_provider=True), position=True)
-def on_rename(ls: ScriptcServer, params: lsp.RenameParams, at: At):
+def on_rename(ls: ScriptcServer, params: lsp.RenameParams, at: AtPosition):
     try:
         edits = navigation.rename(at.snapshot, at.offset, params.new_name)
     except RenameError as error:

@@ -27,6 +27,7 @@ from __future__ import annotations
 import asyncio
 import logging
 import threading
+import typing
 from typing import Any
 
 from lsprotocol import types as lsp
@@ -36,7 +37,14 @@ from pygls.protocol import LanguageServerProtocol, lsp_method
 from pygls.protocol.json_rpc import JsonRPCResponseMessage
 
 __all__ = ["JsonRpcException", "JsonRpcInternalError", "LanguageServer", "Protocol",
-           "serve_stdio"]
+           "RawResult", "serve_stdio"]
+
+
+class RawResult(typing.Protocol):
+    """A result already in the protocol's JSON form, held in `value`."""
+
+    # JSON data (dicts, lists, numbers, strings), written out as it is.
+    value: Any
 
 
 class Protocol(LanguageServerProtocol):
@@ -47,7 +55,7 @@ class Protocol(LanguageServerProtocol):
 
     # Results of this type are sent as their `value` (JSON already): pygls would otherwise walk
     # them with cattrs, which costs more than computing them.
-    raw_results: type | tuple[type, ...] = ()
+    raw_results: type[RawResult] | tuple[type[RawResult], ...] = ()
 
     @property
     def server(self) -> LanguageServer:
