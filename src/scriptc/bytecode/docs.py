@@ -1,4 +1,4 @@
-"""The generated parts of docs/bytecode.md: the record layouts (from `layout.py`), the operand
+"""The generated parts of docs/bytecode.md: the record layouts (from `container.py`), the operand
 kinds and the opcode table (from `opcodes.py`).
 
 The prose of docs/bytecode.md is written by hand; each generated part sits between a pair of
@@ -21,7 +21,7 @@ from scriptc.bytecode.opcodes import (
     Opcode,
 )
 
-__all__ = ["render_layout", "render_kinds", "render_opcodes", "GENERATED"]
+__all__ = ["GENERATED", "render_kinds", "render_layout", "render_opcodes"]
 
 
 def _cell(text: str) -> str:
@@ -90,10 +90,10 @@ def _search(op: Opcode) -> str:
 def render_opcodes() -> str:
     """The opcode table."""
     lines = [
-        f"Stack effects read `pops -> pushes`, deepest first; `v` is a value, `b` a truth "
-        f"value, `v*argc` as many values as the operand `argc`. The stack never holds more "
-        f"than {MAX_STACK} values. *In* lists the block kinds whose code may hold the "
-        f"instruction ({', '.join(f'`{k}` {v}' for k, v in BLOCK_KINDS.items())}).",
+        (f"Stack effects read `pops -> pushes`, deepest first; `v` is a value, `b` a truth "
+         f"value, `v*argc` as many values as the operand `argc`. The stack never holds more "
+         f"than {MAX_STACK} values. *In* lists the block kinds whose code may hold the "
+         f"instruction ({', '.join(f'`{k}` {v}' for k, v in BLOCK_KINDS.items())})."),
         "",
         "| Code | Mnemonic | Size | Operands | Stack | In | Control, search | Meaning |",
         "|---|---|---:|---|---|---|---|---|",

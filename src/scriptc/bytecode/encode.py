@@ -1,4 +1,4 @@
-"""Program -> the bytes of a `.scb` file (layout in `layout.py`, docs/bytecode.md).
+"""Program -> the bytes of a `.scb` file (layout in `container.py`, docs/bytecode.md).
 
 Encoding does not judge the program (that is `verify`): it writes what it is given, and
 raises ValueError only for what the format cannot hold (a number past 32 bits, say).
@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import struct
 import zlib
+from collections.abc import Iterable
 
 from scriptc.bytecode import container as L
 from scriptc.bytecode.program import Num, Program
@@ -64,8 +65,8 @@ def _blocks(program: Program) -> bytes:
     return b"".join(out)
 
 
-def _deltas(values) -> list[int]:
-    out = []
+def _deltas(values: Iterable[int]) -> list[int]:
+    out: list[int] = []
     previous = 0
     for v in values:
         out.append(v - previous)
@@ -81,7 +82,7 @@ def _column(values: list[int], signed: bool) -> tuple[int, bytes]:
         bits = 8 * width
         if signed and -(1 << (bits - 1)) <= low and high < (1 << (bits - 1)):
             return width, struct.pack(f"<{len(values)}{signed_code}", *values)
-        if not signed and 0 <= low and high < (1 << bits):
+        if not signed and low >= 0 and high < (1 << bits):
             return width, struct.pack(f"<{len(values)}{unsigned_code}", *values)
     raise ValueError("a span value does not fit in 32 bits")
 

@@ -3,7 +3,7 @@
 Shared by every executor (what a bytecode VM reuses as it is):
 
 - `clock`       the event queue (simulated ms, heapq; no wall clock)
-- `values`      plain run-time values (commands, positions, rule messages), number/text compare
+- `commands`    plain run-time values (commands, positions, rule messages), number/text compare
 - `world`       the map: entities, robot status, script info; MapUpdate with R/A policies
 - `bindings`    aliases (one per entity), VARs, ATTs and their scopes U/T/L
 - `functions`   B/F/E implementations and the registration API for an activity's own
@@ -11,7 +11,7 @@ Shared by every executor (what a bytecode VM reuses as it is):
 - `rules`       the chain's actions (A R D B C), the rule library by rulecode, `RuleContext`
                 (what a body may do, through a `RuleHost`)
 - `actuators`   track timing, outputs, the operator's joystick
-- `robots/`     robot backends (`kinematic`; MuJoCo next)
+- `robots/`     robot backends (`kinematic`, `mujoco`)
 - `scenario`    world files: timed MapUpdates and operator events
 - `trace`       JSON-lines traces
 - `session`     the wiring of the jobs below into one run (`Session`)
@@ -25,10 +25,16 @@ Shared by every executor (what a bytecode VM reuses as it is):
 - `operator`    the operator's joystick (thesis 5.3)
 - `status`      the instant under way, the end, the problems (the registry's run-time codes)
 - `loading`     `Loader`, the protocol by which a session loads a script met by path
+- `idle`        `idle_activity`, built as IR
+- `configured`  a repository's own functions and rules, registered beside the standard ones
+- `governor`    the safety governor between the actuators and the robot
+- `sensing`     simulated perception of the scenario's people, objects and obstacles
+- `summary`     what `scriptc run` prints; `plot` its `--plot` picture (matplotlib)
 
 Executor-specific (one per way of reading a script's blocks; `executor.py` is the contract):
 
 - `interp`      the reference interpreter over the IR (the executable spec)
+- `vm`          the bytecode VM over a verified program (what `scriptc run` uses)
 
 Nothing here imports `scriptc.ops` or the CLI: `scriptc run` (`scriptc.ops.programs`, cli/run.py)
 builds the programs and hands the session a loader (`loading.Loader`) for scripts met by path.
