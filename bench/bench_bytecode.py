@@ -17,14 +17,14 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).parent))
 
-from generate import big_script  # noqa: E402
+from generate import big_script
 
-from scriptc.bytecode import decode, disassemble, encode, verify  # noqa: E402
-from scriptc.analysis.analyze import analyze_script  # noqa: E402
-from scriptc.ops.build import emit  # noqa: E402
-from scriptc.emit.codegen import codegen  # noqa: E402
-from scriptc.gcpause import gc_paused  # noqa: E402
-from scriptc.source import SourceFile  # noqa: E402
+from scriptc.analysis.analyze import analyze_script
+from scriptc.bytecode import decode, disassemble, encode, verify
+from scriptc.emit.codegen import codegen
+from scriptc.gcpause import gc_paused
+from scriptc.ops.build import emit
+from scriptc.source import SourceFile
 
 
 def best(fn, runs: int):

@@ -1,6 +1,7 @@
 """Compile speed: a generated ~1 MB script (10,000 blocks, half of them jumps with conditions)
-end to end (scan, parse, lower, check, emit JSON: the library functions that `scriptc compile` calls), beside lark's raw parse of the same
-items, and the growth from 0.1 MB to 1 MB (10x the input should cost at most ~11x the time).
+end to end (scan, parse, lower, check, emit JSON: the library functions that `scriptc compile`
+calls), beside lark's raw parse of the same items, and the growth from 0.1 MB to 1 MB (10x the
+input should cost at most ~11x the time).
 
     python bench/bench_compile.py [--runs N]
 
@@ -16,13 +17,13 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).parent))
 
-from generate import big_script  # noqa: E402
+from generate import big_script
 
-from scriptc.analysis.analyze import analyze_script  # noqa: E402
-from scriptc.ops.build import emit  # noqa: E402
-from scriptc.source import SourceFile  # noqa: E402
-from scriptc.syntax.parser import script_lark  # noqa: E402
-from scriptc.syntax.scan import scan  # noqa: E402
+from scriptc.analysis.analyze import analyze_script
+from scriptc.ops.build import emit
+from scriptc.source import SourceFile
+from scriptc.syntax.parser import script_lark
+from scriptc.syntax.scan import scan
 
 
 def best(fn, runs: int) -> float:
@@ -54,7 +55,8 @@ def main() -> None:
     tiny = best(lambda: compile_text(small), args.runs)
     print(f"input: {mb:.2f} MB, 10,000 blocks (5,000 conditions)")
     print(f"lark raw parse of the items:   {raw:6.3f} s  {mb / raw:5.2f} MB/s")
-    print(f"compile end to end (to JSON):  {full:6.3f} s  {mb / full:5.2f} MB/s   (target >= 0.5 MB/s)")
+    print(f"compile end to end (to JSON):  {full:6.3f} s  {mb / full:5.2f} MB/s"
+          "   (target >= 0.5 MB/s)")
     print(f"growth 1,000 -> 10,000 blocks: x{full / tiny:.1f} time for x10 input   (target <= ~11)")
 
 

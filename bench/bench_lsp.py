@@ -38,7 +38,7 @@ import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).parent))
-from generate import big_script  # noqa: E402
+from generate import big_script
 
 SERVER = [sys.executable, "-m", "scriptc", "lsp"]
 URI = "file:///bench/big.script"
@@ -242,7 +242,8 @@ async def bench_pygls(blocks: int, rounds: int) -> dict:
         j = jumps[n * len(jumps) // rounds] + len("TRJMP(")
         p = lsp.Position(**position(text, j))
         sent = time.perf_counter()
-        await client.text_document_completion_async(lsp.CompletionParams(lsp.TextDocumentIdentifier(URI), p))
+        await client.text_document_completion_async(
+            lsp.CompletionParams(lsp.TextDocumentIdentifier(URI), p))
         requests["completion (labels in TRJMP)"].append(time.perf_counter() - sent)
         p = lsp.Position(**position(text, j + 1))
         sent = time.perf_counter()
@@ -322,7 +323,8 @@ def summary(values: list[float]) -> str:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--blocks", type=int, default=560, help="blocks of the script (560: ~90 KB)")
+    parser.add_argument("--blocks", type=int, default=560,
+                        help="blocks of the script (560: ~90 KB)")
     parser.add_argument("--rounds", type=int, default=40, help="edits (x2) and requests per kind")
     parser.add_argument("--pygls", action="store_true", help="measure through pytest-lsp's client")
     parser.add_argument("--profile", metavar="FILE", help="run the server under cProfile, "

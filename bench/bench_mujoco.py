@@ -25,6 +25,7 @@ import subprocess
 import sys
 import tempfile
 import time
+from pathlib import Path
 
 MINUTES = 10
 REPEAT = 3
@@ -149,7 +150,8 @@ def ctrl_c() -> None:
             process = subprocess.Popen([sys.executable, "-m", "scriptc", "run", path, "--until",
                                         "3600000", "--trace", os.path.join(tmp, "t.jsonl")],
                                        stdout=subprocess.PIPE, stderr=subprocess.PIPE)
-            while "libmujoco" not in open(f"/proc/{process.pid}/maps").read():
+            maps = Path(f"/proc/{process.pid}/maps")
+            while "libmujoco" not in maps.read_text():
                 time.sleep(0.001)
             time.sleep(1.5)  # the model is loaded and the session runs
             sent = time.perf_counter()

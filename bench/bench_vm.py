@@ -20,20 +20,20 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
-from bench_run import MINUTES, activity_text, best, scenario  # noqa: E402
+from bench_run import MINUTES, activity_text, best, scenario
 
-from scriptc import bytecode  # noqa: E402
-from scriptc.analysis.analyze import analyze_bytes  # noqa: E402
-from scriptc.ops.build import emit  # noqa: E402
-from scriptc.runtime.bindings import Bindings  # noqa: E402
-from scriptc.runtime.evaluate import EvalContext  # noqa: E402
-from scriptc.runtime.functions import STANDARD_IMPLEMENTATIONS  # noqa: E402
-from scriptc.runtime.interp import IRProgram  # noqa: E402
-from scriptc.runtime.scenario import scenario_from_data  # noqa: E402
-from scriptc.runtime.session import Session  # noqa: E402
-from scriptc.runtime.trace import Trace  # noqa: E402
-from scriptc.runtime.vm import VMProgram  # noqa: E402
-from scriptc.runtime.world import World, parse_update  # noqa: E402
+from scriptc import bytecode
+from scriptc.analysis.analyze import analyze_bytes
+from scriptc.ops.build import emit
+from scriptc.runtime.bindings import Bindings
+from scriptc.runtime.evaluate import EvalContext
+from scriptc.runtime.functions import STANDARD_IMPLEMENTATIONS
+from scriptc.runtime.interp import IRProgram
+from scriptc.runtime.scenario import scenario_from_data
+from scriptc.runtime.session import Session
+from scriptc.runtime.trace import Trace
+from scriptc.runtime.vm import VMProgram
+from scriptc.runtime.world import World, parse_update
 
 
 def programs(text: str, name: str) -> dict:
@@ -47,15 +47,16 @@ def programs(text: str, name: str) -> dict:
 def bench_activity(runs: int) -> None:
     world = scenario(MINUTES * 60_000)
     scn = scenario_from_data(world)
+
+    def once(program, traced: bool):
+        trace = Trace(enabled=traced)
+        result = Session([program], scenario=scn, trace=trace).run()
+        assert result.outcome == "completed", result.outcome
+        return result, trace
+
     for label, program in programs(activity_text(), "ten_minutes.script").items():
         for traced in (False, True):
-            def once():
-                trace = Trace(enabled=traced)
-                result = Session([program], scenario=scn, trace=trace).run()
-                assert result.outcome == "completed", result.outcome
-                return result, trace
-
-            seconds, (result, trace) = best(once, runs)
+            seconds, (result, trace) = best(once, runs, program, traced)
             simulated = result.time_ms / 1000
             print(f"10-minute activity, {label:26} trace {'on ' if traced else 'off'}: "
                   f"{seconds * 1000:7.1f} ms ({simulated / seconds:,.0f}x real time); "
@@ -88,23 +89,22 @@ def bench_conditions(runs: int, n: int = 1000) -> None:
          "{CLASS #Human U ?kid (?THIS>&positionrho OP> 11.985)} ! {TRUE}"),
         ("the oldest passes", "{CLASS #Human U ?kid (?THIS>&positionrho OP< 2.005)} ! {TRUE}"),
         ("two tests, a VAR and two E functions (none passes)",
-         "{CLASS #Human U ?kid (?THIS>&positionrho OP< 1.0, B: near(1.5))} {VAR @t U F: now()} "
-         "! {E: gt(?kid>&permanencetime, 2000)} {E: lt(@t, 5)}"),
+         ("{CLASS #Human U ?kid (?THIS>&positionrho OP< 1.0, B: near(1.5))} {VAR @t U F: now()} "
+          "! {E: gt(?kid>&permanencetime, 2000)} {E: lt(@t, 5)}")),
     ]
+    repeat = 200
+
+    def loop(executor) -> None:
+        for _ in range(repeat):
+            ctx.bindings.end_script()
+            executor.start()
+            executor.read(ctx, sink)
+
     for label, condition in cases:
         text = (f"[c]\n[goal:g]\n[action]\n[b##blk_jump: CND({condition}) TRJMP() FLSJMP()]\n"
                 "[b##blk_terminus]\n")
         for how, program in programs(text, "c.script").items():
-            executor = program.executor()
-            repeat = 200
-
-            def loop():
-                for _ in range(repeat):
-                    ctx.bindings.end_script()
-                    executor.start()
-                    executor.read(ctx, sink)
-
-            seconds, _ = best(loop, runs)
+            seconds, _ = best(loop, runs, program.executor())
             print(f"condition over {n:,} entities, {label}, {how}: "
                   f"{seconds / repeat * 1000:.3f} ms per jump")
 

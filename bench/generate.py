@@ -43,11 +43,11 @@ def script_of_size(megabytes: float) -> str:
 _CONDITIONS = (
     "! {{E: gt(@count, {n})}}",
     "{{CLASS #Human U ?kid (?THIS>&positionrho OP< {f})}} ! {{TRUE}}",
-    "{{CLASS #Human T ?kid (?THIS>&positionrho OP< {f}, B: near({n}))}} ! "
-    "{{E: gt(?kid>&permanencetime, {t})}}",
+    ("{{CLASS #Human T ?kid (?THIS>&positionrho OP< {f}, B: near({n}))}} ! "
+     "{{E: gt(?kid>&permanencetime, {t})}}"),
     "{{VAR @start U F: now()}} ! {{E: gt(@start, {t})}}",
-    "{{CLASS #Object U ?toy (?THIS>&positiontheta OP> {f})}} "
-    "{{CLASS #Human U ?kid (?THIS>&positionrho OP< {f})}} ! {{E: lt(?kid>&positionrho, {f})}}",
+    ("{{CLASS #Object U ?toy (?THIS>&positiontheta OP> {f})}} "
+     "{{CLASS #Human U ?kid (?THIS>&positionrho OP< {f})}} ! {{E: lt(?kid>&positionrho, {f})}}"),
     "{{TRUE}}",
 )
 

@@ -148,9 +148,7 @@ def _skippable(node: ast.AST) -> bool:
         return True
     if isinstance(node, ast.Expr) and isinstance(node.value, ast.Constant):
         return True
-    if isinstance(node, ast.AnnAssign) and node.value is None:
-        return True
-    return False
+    return isinstance(node, ast.AnnAssign) and node.value is None
 
 
 def _sites(tree: ast.AST) -> list[tuple[ast.AST, str, object]]:
@@ -179,10 +177,10 @@ def _sites(tree: ast.AST) -> list[tuple[ast.AST, str, object]]:
             sites.append((node, "not", None))
         elif isinstance(node, ast.BinOp) and type(node.op) in _BINOP_SWAP:
             sites.append((node, "binop", None))
-        elif isinstance(node, ast.Constant) and not isinstance(node.value, bytes):
-            if isinstance(node.value, bool) or isinstance(node.value, (int, float)) \
-                    or (isinstance(node.value, str) and node.value):
-                sites.append((node, "constant", None))
+        elif (isinstance(node, ast.Constant) and not isinstance(node.value, bytes)
+              and (isinstance(node.value, (bool, int, float))
+                   or (isinstance(node.value, str) and node.value))):
+            sites.append((node, "constant", None))
         if isinstance(node, ast.stmt) and not _skippable(node) \
                 and not isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
             if isinstance(node, ast.Return) and node.value is not None:
@@ -202,8 +200,8 @@ def _mutate(node: ast.AST, kind: str, detail: object) -> tuple[ast.AST, str]:
         return new, f"`{_op_text(op)}` to `{_op_text(swapped)}`"
     if kind == "boolop":
         new.op = ast.Or() if isinstance(new.op, ast.And) else ast.And()
-        return new, f"`{'and' if isinstance(node.op, ast.And) else 'or'}` to " \
-                    f"`{'or' if isinstance(node.op, ast.And) else 'and'}`"
+        return new, (f"`{'and' if isinstance(node.op, ast.And) else 'or'}` to "
+                     f"`{'or' if isinstance(node.op, ast.And) else 'and'}`")
     if kind == "not":
         return new.operand, "`not` dropped"
     if kind == "binop":
@@ -329,8 +327,9 @@ def _pytest(work: Path, plugins: Path, args: list[str], report: Path | None = No
         env["MUTATE_REPORT"] = str(report)
     runner = [sys.executable, "-m", "pytest"] if coverage_rc is None else \
         [sys.executable, "-m", "coverage", "run", f"--rcfile={coverage_rc}", "-m", "pytest"]
+    # Not check=True: pytest's status is the answer (tests failing kill the mutant).
     return subprocess.run([*runner, "-q", "-p", "no:cacheprovider", "-p", "mutate_profile",
-                           "--no-header", "-o", "addopts=", *args],
+                           "--no-header", "-o", "addopts=", *args], check=False,
                           cwd=work, env=env, timeout=timeout, preexec_fn=_limit_memory,
                           stdout=subprocess.PIPE if capture else subprocess.DEVNULL,
                           stderr=subprocess.STDOUT if capture else subprocess.DEVNULL)
@@ -606,7 +605,9 @@ def main() -> None:
         for module, text_lines, found, equivalent in plans:
             covered = lines.get(module, {})
 
-            def tests_of(m: Mutant) -> list[str]:
+            # The closures run in this iteration (the pool is joined below): the loop's
+            # variables are bound as defaults all the same.
+            def tests_of(m: Mutant, covered: dict[int, set[str]] = covered) -> list[str]:
                 hit: set[str] = set()
                 for line in range(m.line, m.end_line + 1):
                     hit |= covered.get(line, set())
@@ -615,7 +616,8 @@ def main() -> None:
 
             done: list[str] = []
 
-            def one(m: Mutant) -> tuple[Mutant, str]:
+            def one(m: Mutant, done: list[str] = done, found: list[Mutant] = found,
+                    module: str = module) -> tuple[Mutant, str]:
                 work = free.pop()
                 try:
                     tests = tests_of(m)

@@ -35,7 +35,6 @@ import re
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from decimal import Decimal
-from typing import Union
 
 from scriptc.analysis.analyze import Analysis
 from scriptc.emit.script import format_script
@@ -46,22 +45,22 @@ from scriptc.robot.profile import Profile
 from scriptc.source import SourceFile, Span
 
 __all__ = [
-    "Activity",
-    "Goal",
     "Action",
-    "Built",
+    "Activity",
     "BuildError",
+    "Built",
+    "Goal",
     "Numeric",
-    "move",
-    "led",
     "audio",
-    "number_text",
     "build_text",
     "fill",
     "fill_text",
+    "led",
+    "move",
+    "number_text",
 ]
 
-Numeric = Union[int, float, str, Decimal]
+Numeric = int | float | str | Decimal
 """A number for a command or message: an int, a finite float, a Decimal, or the number's text
 (kept as written: `"0.20"` stays `0.20` in the JSON)."""
 
@@ -377,10 +376,9 @@ _PLACEHOLDER = re.compile(r"\$\$|\$\{([A-Za-z_][A-Za-z0-9_]*)\}|\$\{")
 
 def _value_text(name: str, value: object, in_string: bool) -> str:
     if isinstance(value, str):
-        if "\n" in value or "\r" in value:
-            if in_string:
-                raise ValueError(f"the value of `{name}` holds a line break, which a script "
-                                 "string cannot")
+        if in_string and ("\n" in value or "\r" in value):
+            raise ValueError(f"the value of `{name}` holds a line break, which a script "
+                             "string cannot")
         return quote(value)[1:-1] if in_string else value
     if isinstance(value, (bool, int, float, Decimal)):
         return number_text(value, f"the value of `{name}`")

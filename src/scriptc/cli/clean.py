@@ -11,13 +11,14 @@ folder that cannot be removed, or is not a cache of scriptc).
 
 from __future__ import annotations
 
+import contextlib
 import os
 import shutil
 
 import click
 
-from scriptc.project.cache import CACHE_DIR_NAME, CACHEDIR_TAG
 from scriptc.cli.common import CliError, write
+from scriptc.project.cache import CACHE_DIR_NAME, CACHEDIR_TAG
 
 # Folders never searched for sub-projects' caches.
 _SKIPPED = frozenset({".git", ".hg", ".svn", ".venv", "node_modules", "__pycache__"})
@@ -38,10 +39,8 @@ def _size(folder: str) -> tuple[int, int]:
     for root, _dirs, names in os.walk(folder):
         for name in names:
             files += 1
-            try:
+            with contextlib.suppress(OSError):  # gone since the walk listed it: no bytes
                 size += os.lstat(os.path.join(root, name)).st_size
-            except OSError:
-                pass
     return files, size
 
 

@@ -185,9 +185,9 @@ def lint_report(paths: tuple[str, ...], kind: SourceKind, format_: str, stdin_na
     """Analyse the paths (with their configuration, the cache and worker processes:
     `scriptc.ops.lint.lint_paths`), show the diagnostics on stdout (or in `output_file`), a
     summary on stderr when several files were read, and return the run's status (a file that
-    cannot be read is named on stderr and makes it 2). `statistics` shows a count per code instead of
-    the diagnostics; `options.diff` the unified diff of what the fixes would change instead
-    (status 1 when there is one); `exit_zero` turns status 1 into 0."""
+    cannot be read is named on stderr and makes it 2). `statistics` shows a count per code
+    instead of the diagnostics; `options.diff` the unified diff of what the fixes would change
+    instead (status 1 when there is one); `exit_zero` turns status 1 into 0."""
     from scriptc.analysis.read import ReadError
     from scriptc.diagnostics.render import (
         diff_summary,
@@ -283,7 +283,7 @@ class Progress:
 
     def __call__(self, done: int, total: int) -> None:
         self.done, self.total = done, total
-        if not self.enabled or total < PROGRESS_MIN_FILES or done >= total and self._bar is None:
+        if not self.enabled or total < PROGRESS_MIN_FILES or (done >= total and self._bar is None):
             return
         if self._bar is None:
             from rich.console import Console

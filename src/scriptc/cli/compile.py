@@ -38,8 +38,8 @@ def command(ctx: click.Context, file: str, output: str | None, back_end: str,
     """Compile a script (- for stdin) to thesis JSON or bytecode (--emit bytecode).
 
     Without -o the output goes beside FILE with the back end's suffix (dance.script ->
-    dance.json, dance.scb), or to stdout when FILE is -. Nothing is written when the script has errors,
-    and never over FILE itself. Diagnostics go to stderr.
+    dance.json, dance.scb), or to stdout when FILE is -. Nothing is written when the script has
+    errors, and never over FILE itself. Diagnostics go to stderr.
     """
     named = stdin_name if file == "-" else file
     if named.lower().endswith(".json"):

@@ -8,9 +8,10 @@ created when missing. Existing files are never overwritten: each is named as ski
 repository it writes lints clean (tests/test_init.py holds that).
 
 The workflow installs the scriptc that runs `init`, as pip recorded where it came from
-(`scriptc.project.provenance`): a commit of a repository, a version of a package index. A scriptc that
-no other machine can install (a local checkout) gets an install step that fails saying what to
-write, and `init` warns about it, rather than a line that installs something else.
+(`scriptc.project.provenance`): a commit of a repository, a version of a package index. A
+scriptc that no other machine can install (a local checkout) gets an install step that fails
+saying what to write, and `init` warns about it, rather than a line that installs something
+else.
 
 Exit status: 0 done (some files may have been skipped), 2 DIR is not a folder or a file
 cannot be written.
@@ -84,7 +85,7 @@ SCENARIO = """\
     }
   ]
 }
-"""
+"""  # noqa: E501 - the lines of the file `init` writes, as written
 
 AUDIO = """\
 # Audio tracks
@@ -162,7 +163,7 @@ UNKNOWN_INSTALL = f"""\
         # (scriptc's docs/cli.md, "Installing scriptc in CI").
         run: |
           echo "::error::Edit the step 'Install scriptc' of .github/workflows/scriptc.yml: it does not say where to install scriptc from."
-          exit 1"""
+          exit 1"""  # noqa: E501 - the lines of the file `init` writes, as written
 
 
 def workflow(origin: Provenance) -> str:

@@ -22,8 +22,13 @@ import os
 
 import click
 
-from scriptc.cli.common import (CliError, check_output, lint_format_option, lint_report,
-                                stdin_name_option)
+from scriptc.cli.common import (
+    CliError,
+    check_output,
+    lint_format_option,
+    lint_report,
+    stdin_name_option,
+)
 from scriptc.paths import same_file
 from scriptc.source import SourceKind
 
@@ -34,8 +39,8 @@ def _selectors(option: str, *, ignoring: bool = False):
     suggested); `--ignore` may not name only errors, which are always reported."""
 
     def convert(_ctx: click.Context, _param: click.Parameter, values: tuple[str, ...]):
-        from scriptc.project.config.settings import run_time_refusal, selected_codes
         from scriptc.diagnostics.codes import REGISTRY
+        from scriptc.project.config.settings import run_time_refusal, selected_codes
 
         selectors = []
         for value in values:

@@ -34,8 +34,8 @@ VERBS: dict[str, tuple[str, str]] = {
     "show-settings": ("scriptc.cli.show_settings",
                       "Show the configuration a file gets, and where each setting comes from."),
     "clean": ("scriptc.cli.clean", "Remove the cache folder of the project."),
-    "completion": ("scriptc.cli.completion", "Print the shell completion script (bash, zsh, "
-                                             "fish)."),
+    "completion": ("scriptc.cli.completion",
+                   "Print the shell completion script (bash, zsh, fish)."),
 }
 
 COLOR_CHOICES = ("auto", "always", "never")
@@ -94,7 +94,7 @@ class LazyGroup(click.Group):
         except KeyboardInterrupt:
             click.echo("error: interrupted", err=True)
             ctx.exit(130)
-        except Exception as exc:  # noqa: BLE001 - the one place that catches everything
+        except Exception as exc:  # the one place that catches everything
             report_internal_error(exc)
             ctx.exit(2)
 
@@ -150,6 +150,6 @@ def main(argv: list[str] | None = None) -> None:
         cli.main(args=argv, prog_name="scriptc")
     except SystemExit:
         raise
-    except Exception as exc:  # noqa: BLE001 - outside any verb (argument parsing, say)
+    except Exception as exc:  # outside any verb (argument parsing, say)
         report_internal_error(exc)
         sys.exit(2)

@@ -142,7 +142,7 @@ def command(ctx: click.Context, files: tuple[str, ...], world: str | None, until
     profile = loaded.setup.profile if governor else None
     try:
         robot_backend = make_robot(robot)
-    except Exception as exc:  # noqa: BLE001 - a backend that cannot start (mujoco missing)
+    except Exception as exc:  # a backend that cannot start (mujoco missing)
         raise CliError(f"robot `{robot}` cannot start: {exc}") from None
     recorder = None
     if plot_path is not None:

@@ -15,8 +15,8 @@ import sys
 import time
 from collections.abc import Callable, Collection
 
-from scriptc.project.cache import CACHE_DIR_NAME
 from scriptc.cli.common import CliError, write
+from scriptc.project.cache import CACHE_DIR_NAME
 
 # Besides scripts, the files whose change changes what lint reports.
 WATCHED_NAMES = frozenset({"scriptc.toml", "pyproject.toml", ".gitignore"})

@@ -198,19 +198,22 @@ class _Completer:
                 # The tracks not written yet, in their order (`MV() LD() AO()`).
                 present = re.findall(rf"{_B}({_TRACK})\s*\(", before)
                 last = max(TRACKS.index(t) for t in present) if present else -1
-                return [self.item(name, "keyword", snippet=f"{name}(${{1}})", insert_text=f"{name}()",
-                                  documentation=_COMMANDS[name][1])
+                return [self.item(name, "keyword", snippet=f"{name}(${{1}})",
+                                  insert_text=f"{name}()", documentation=_COMMANDS[name][1])
                         for name in TRACKS[last + 1:]]
         if head.group(1) == "blk_jump" and balanced and after_part:
             if "CND" not in before:
-                return [self.item("CND", "keyword", snippet="CND(${1:! {TRUE\\}})", insert_text="CND()",
+                return [self.item("CND", "keyword", snippet="CND(${1:! {TRUE\\}})",
+                                  insert_text="CND()",
                                   documentation="the condition, in the rule grammar")]
             if "TRJMP" not in before:
                 return [self.item("TRJMP", "keyword", snippet="TRJMP(${1}) FLSJMP(${2})",
                                   insert_text="TRJMP() FLSJMP()",
-                                  documentation="where to go when the condition holds, and when not")]
+                                  documentation=("where to go when the condition holds, "
+                                                 "and when not"))]
             if "FLSJMP" not in before:
-                return [self.item("FLSJMP", "keyword", snippet="FLSJMP(${1})", insert_text="FLSJMP()",
+                return [self.item("FLSJMP", "keyword", snippet="FLSJMP(${1})",
+                                  insert_text="FLSJMP()",
                                   documentation="where to go when the condition does not hold")]
         return []
 

@@ -15,8 +15,8 @@ from __future__ import annotations
 
 import re
 
-from scriptc.ide.index import BlockInfo, Occurrence, track_time
 from scriptc.ide.answers import Hover
+from scriptc.ide.index import BlockInfo, Occurrence, track_time
 from scriptc.ide.snapshot import Snapshot
 from scriptc.ir.builtins import CLASSES, field_of
 from scriptc.ir.nodes import (
@@ -32,7 +32,7 @@ from scriptc.ir.nodes import (
 from scriptc.language import MUTEXES, OPERATORS, RULE_ACTIONS, SCOPES
 from scriptc.source import Span
 
-__all__ = ["hover", "code_at", "format_ms"]
+__all__ = ["code_at", "format_ms", "hover"]
 
 _WORD = re.compile(r"[A-Za-z0-9_]+")
 _CODE = re.compile(r"[A-Z][0-9]{3}")
@@ -155,7 +155,8 @@ def _occurrence_markdown(snapshot: Snapshot, script: Script, o: Occurrence) -> s
     if kind == "rule":
         return _rule_markdown(snapshot, script, name)
     if kind in ("action-letter", "mutex-letter"):
-        table, what = (RULE_ACTIONS, "rule action") if kind == "action-letter" else (MUTEXES, "mutex")
+        table, what = ((RULE_ACTIONS, "rule action") if kind == "action-letter"
+                       else (MUTEXES, "mutex"))
         meaning = table.get(name)
         return f"**{what}** `{name}`: {meaning}" if meaning else None
     if kind == "goal":
@@ -219,7 +220,8 @@ def _rule_markdown(snapshot: Snapshot, script: Script, rule_id: str) -> str:
     messages = [m for m in (*script.alfa, *script.omega) if m.id.text == rule_id]
     lines = [f"**rule** `{rule_id}`"]
     for m in messages:
-        lines.append(f"- line {_line(snapshot, m.span.start)}, {m.kind} (rulecode {m.rulecode.text}): "
+        lines.append(f"- line {_line(snapshot, m.span.start)}, {m.kind} "
+                     f"(rulecode {m.rulecode.text}): "
                      f"`{m.action.text}` {RULE_ACTIONS.get(m.action.text, '(unknown action)')}; "
                      f"`{m.mutex.text}` {MUTEXES.get(m.mutex.text, '(unknown mutex)')}")
     return "\n".join(lines[:1]) + "\n\n" + "\n".join(lines[1:])
@@ -264,16 +266,16 @@ def block_markdown(snapshot: Snapshot, info: BlockInfo) -> str:
     block = info.block
     if isinstance(block, InstructionBlock):
         lines = [_title(info, "instruction block"),
-                 f"Takes **{format_ms(info.duration_ms)}**: its three tracks start together "
-                 "and the block ends when the longest is done."]
+                 (f"Takes **{format_ms(info.duration_ms)}**: its three tracks start together "
+                  "and the block ends when the longest is done.")]
         for name, commands in (("MV", block.moves), ("LD", block.leds), ("AO", block.audios)):
             lines.append(_track_markdown(name, commands))
         return "\n\n".join(lines)
     if isinstance(block, JumpBlock):
         following = _next_path(snapshot, info)
         lines = [_title(info, "jump block"),
-                 "Takes no time: the condition is evaluated against the map when the block "
-                 "is reached.",
+                 ("Takes no time: the condition is evaluated against the map when the block "
+                  "is reached."),
                  f"```scriptc\n{block.condition_text}\n```"]
         targets = []
         for word, target in (("true", block.true_target), ("false", block.false_target)):

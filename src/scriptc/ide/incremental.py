@@ -99,7 +99,7 @@ class _Entry:
     """The cache of one item text: its tree (or the syntax error lark raised for it) and the
     lowerings of that tree by item span."""
 
-    __slots__ = ("tree", "error", "lowered", "next_lowered")
+    __slots__ = ("error", "lowered", "next_lowered", "tree")
 
     def __init__(self, tree, error) -> None:
         self.tree = tree
@@ -268,7 +268,8 @@ class Analyzer:
                     keep = SLACK
                 if keep > MAX_PAD:
                     return False
-                analysis = analysis[:a] + new + analysis[b:x_end] + " " * keep + analysis[x_end + had:]
+                analysis = (analysis[:a] + new + analysis[b:x_end] + " " * keep
+                            + analysis[x_end + had:])
                 moved = delta + keep - had
                 pads = {(p + moved if p > x_end else p): length for p, length in pads.items()}
                 if keep:

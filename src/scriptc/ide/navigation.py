@@ -16,14 +16,14 @@ already taken (two labels, aliases or rules would become one).
 from __future__ import annotations
 
 from scriptc.diagnostics.model import TextEdit
-from scriptc.ide.index import Occurrence
 from scriptc.ide.answers import RenameError
+from scriptc.ide.index import Occurrence
 from scriptc.ide.snapshot import Snapshot
 from scriptc.ir.nodes import ClassAssignment, JumpBlock
 from scriptc.language import SIGILS, THIS, is_name
 from scriptc.source import Span
 
-__all__ = ["definition", "references", "prepare_rename", "rename"]
+__all__ = ["definition", "prepare_rename", "references", "rename"]
 
 RENAMABLE = ("label", "alias", "rule")
 _WHAT = {"label": "label", "alias": "alias", "rule": "rule id"}
@@ -99,7 +99,7 @@ def rename(snapshot: Snapshot, offset: int, new_name: str) -> list[TextEdit]:
         valid = is_name(new)
     if not valid:
         raise RenameError(f"`{new_name}` is not a valid {what}"
-                          + (" (a letter or `_`, then letters, digits, `_` or `-`)"))
+                          " (a letter or `_`, then letters, digits, `_` or `-`)")
     if new == o.name:
         return []
     if snapshot.index.occurrences_of(o.kind, new):

@@ -8,9 +8,9 @@ Rule messages sit under the activity, before the goals.
 
 from __future__ import annotations
 
+from scriptc.ide.answers import Fold, Symbol
 from scriptc.ide.hover import format_ms
 from scriptc.ide.index import BlockInfo
-from scriptc.ide.answers import Fold, Symbol
 from scriptc.ide.snapshot import Snapshot
 from scriptc.ir.nodes import InstructionBlock, JumpBlock, SensorBlock, TerminusBlock
 from scriptc.source import Span

@@ -24,13 +24,13 @@ from __future__ import annotations
 import bisect
 from itertools import accumulate
 
-__all__ = ["Layout", "IDENTITY"]
+__all__ = ["IDENTITY", "Layout"]
 
 
 class Layout:
     """The pads of an analysis text, as (analysis offset, length) pairs in order."""
 
-    __slots__ = ("pads", "_starts", "_real_starts", "_before")
+    __slots__ = ("_before", "_real_starts", "_starts", "pads")
 
     def __init__(self, pads: tuple[tuple[int, int], ...] = ()) -> None:
         self.pads = pads

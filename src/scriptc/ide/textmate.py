@@ -265,7 +265,8 @@ def _condition() -> list[dict[str, Any]]:
          "captures": {"0": _scope("support.class"),
                       "1": _scope("punctuation.definition.class")}},
         _sigiled("CLASS_REF", "entity.name.type.class"),
-        {"match": f"({_sigil('ALIAS')}){_literal(THIS.removeprefix(SIGILS['ALIAS']))}(?!{NAME_CHAR})",
+        {"match": (f"({_sigil('ALIAS')}){_literal(THIS.removeprefix(SIGILS['ALIAS']))}"
+                   f"(?!{NAME_CHAR})"),
          "captures": {"0": _scope("variable.language.this"),
                       "1": _scope("punctuation.definition.variable")}},
         _sigiled("ALIAS", "variable.other.alias"),

@@ -37,7 +37,7 @@ from scriptc.language import (
 )
 from scriptc.source import Span
 
-__all__ = ["TYPES", "MODIFIERS", "semantic_tokens"]
+__all__ = ["MODIFIERS", "TYPES", "semantic_tokens"]
 
 TYPES = ("namespace", "label", "keyword", "string", "number", "comment", "class", "property",
          "variable", "function", "operator", "modifier", "enumMember", "event")
@@ -107,9 +107,7 @@ def item_tokens(text: str, first: bool) -> tuple[_Raw, ...]:
             add(t, "string")
         elif t is word and kind in _ITEM_KEYWORDS:
             add(t, "keyword")
-        elif t is word and kind == "activity":
-            add(t, "namespace", "declaration")
-        elif kind == "goal" and group == "name":
+        elif (t is word and kind == "activity") or (kind == "goal" and group == "name"):
             add(t, "namespace", "declaration")
         elif kind in ("alfa", "omega"):
             if value == ",":

@@ -123,7 +123,7 @@ class Positions:
     counts. Lines of ASCII text (the usual case) need no counting: in every encoding, their
     column is the distance from the line's start."""
 
-    __slots__ = ("source", "layout", "text", "ascii", "encoding")
+    __slots__ = ("ascii", "encoding", "layout", "source", "text")
 
     def __init__(self, source: SourceFile, layout: Layout = IDENTITY,
                  encoding: str = UTF16) -> None:
@@ -232,7 +232,7 @@ def _halves(ch: str) -> tuple[str, str]:
             units[2:].decode("utf-16-le", "surrogatepass"))
 
 
-# -- diagnostics ------------------------------------------------------------------------------------
+# -- diagnostics --------------------------------------------------------------------------------
 
 
 def diagnostic(p: Positions, uri: str, d: Diagnostic) -> lsp.Diagnostic:
@@ -242,12 +242,14 @@ def diagnostic(p: Positions, uri: str, d: Diagnostic) -> lsp.Diagnostic:
     shipped inside the package (the codes have no public page); a hover on a code, or the
     `scriptc.explain` command, gives the same text."""
     primary = p.range(d.span)
-    related = [lsp.DiagnosticRelatedInformation(lsp.Location(uri, p.range(label.span)), label.message)
+    related = [lsp.DiagnosticRelatedInformation(lsp.Location(uri, p.range(label.span)),
+                                                label.message)
                for label in d.labels]
     related += [lsp.DiagnosticRelatedInformation(lsp.Location(uri, primary), f"note: {note}")
                 for note in d.notes]
     if d.help:
-        related.append(lsp.DiagnosticRelatedInformation(lsp.Location(uri, primary), f"help: {d.help}"))
+        related.append(lsp.DiagnosticRelatedInformation(lsp.Location(uri, primary),
+                                                        f"help: {d.help}"))
     return lsp.Diagnostic(
         range=primary,
         message=d.message,
@@ -281,7 +283,7 @@ def workspace_edit(p: Positions, uri: str, edits) -> lsp.WorkspaceEdit:
     return lsp.WorkspaceEdit(changes={uri: text_edits(p, edits)})
 
 
-# -- features ---------------------------------------------------------------------------------------
+# -- features -----------------------------------------------------------------------------------
 
 
 def hover(p: Positions, h: answers.Hover | None) -> lsp.Hover | None:

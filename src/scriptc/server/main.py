@@ -166,7 +166,7 @@ class ScriptcServer(LanguageServer):
             return doc.snapshot()
         try:
             snapshot = doc.snapshot()
-        except Exception:  # noqa: BLE001 - a bug must not cost the user the session
+        except Exception:  # a bug must not cost the user the session
             log.exception("incremental analysis failed on %s; analysing afresh", doc.uri)
             doc.reset_analyzer()
             snapshot = doc.snapshot()
@@ -249,7 +249,7 @@ class ScriptcServer(LanguageServer):
                 snapshot = self.analysed(doc)
                 diagnostics = convert.diagnostics(convert.positions(snapshot, self.encoding),
                                                   uri, snapshot.diagnostics)
-            except Exception:  # noqa: BLE001 - one document's bug must not silence the others
+            except Exception:  # one document's bug must not silence the others
                 log.exception("cannot analyse %s", uri)
                 continue
             self.text_document_publish_diagnostics(lsp.PublishDiagnosticsParams(
@@ -272,7 +272,7 @@ def _path(uri: str) -> str:
     return unquote(parsed.path) if parsed.scheme == "file" else uri
 
 
-# -- lifecycle --------------------------------------------------------------------------------------
+# -- lifecycle ----------------------------------------------------------------------------------
 
 
 def diagnostic_modes(capabilities: lsp.ClientCapabilities | None, options) -> tuple[bool, bool]:
@@ -372,7 +372,7 @@ def _configured(uri: str, text: str, version: int | None) -> Document:
     path = _path(uri) if uri.startswith("file:") else None
     try:
         doc, problems = configured_document(uri, text, version, path=path)
-    except Exception:  # noqa: BLE001 - a broken configuration must not cost the session
+    except Exception:  # a broken configuration must not cost the session
         log.exception("cannot read the configuration of %s", path)
         return Document(uri, text, version, path=_path(uri))
     for problem in problems:
@@ -415,7 +415,7 @@ def did_close(ls: ScriptcServer, params: lsp.DidCloseTextDocumentParams) -> None
         ls.text_document_publish_diagnostics(lsp.PublishDiagnosticsParams(uri=uri, diagnostics=[]))
 
 
-# -- diagnostics (pull) -------------------------------------------------------------------------------
+# -- diagnostics (pull) -------------------------------------------------------------------------
 
 
 @SERVER.feature(lsp.TEXT_DOCUMENT_DIAGNOSTIC,
@@ -605,7 +605,8 @@ def on_range_formatting(ls: ScriptcServer, params: lsp.DocumentRangeFormattingPa
 
 def serve(log_level: str = "WARNING") -> None:
     """Talk LSP over stdin and stdout until the client says exit."""
-    logging.basicConfig(stream=sys.stderr, level=getattr(logging, log_level.upper(), logging.WARNING),
+    level = getattr(logging, log_level.upper(), logging.WARNING)
+    logging.basicConfig(stream=sys.stderr, level=level,
                         format="scriptc-lsp %(levelname)s %(name)s: %(message)s")
     # pygls logs every message it sends at INFO; keep it quieter than our own level.
     logging.getLogger("pygls").setLevel(max(logging.WARNING, logging.getLogger().level))
