@@ -11,10 +11,14 @@ parser accepts the keyword, so labels such as `b#goal#` remain names.
 from __future__ import annotations
 
 import re
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Iterator, Sequence
+from typing import TYPE_CHECKING, NoReturn
 
 from scriptc.syntax.larkshim import (
     CustomLexer,
+    LexerConf,
+    LexerState,
+    TerminalDef,
     Token,
     accepted_terminals,
     in_lexer_order,
@@ -28,13 +32,21 @@ from scriptc.syntax.larkshim import (
     unexpected_token,
 )
 
+if TYPE_CHECKING:
+    from scriptc.syntax.larkshim import ParserState
 
-class _Scanner:
-    __slots__ = ("regex", "retype", "ignore", "skip", "alternatives")
 
-    def __init__(self, terminals, ignore: frozenset[str], skip: str = "") -> None:
+class Scanner:
+    """The terminals of a parser state in one regex (`regex`, a named group per terminal, in
+    lark's order), and the keywords a name pattern also matches (`retype`: by the name
+    terminal, the keyword's text -> its terminal)."""
+
+    __slots__ = ("alternatives", "ignore", "regex", "retype", "skip")
+
+    def __init__(self, terminals: Sequence[TerminalDef], ignore: frozenset[str],
+                 skip: str = "") -> None:
         regexps = [t for t in terminals if terminal_literal(t) is None]
-        kept = []
+        kept: list[TerminalDef] = []
         self.retype: dict[str, dict[str, str]] = {}
         for t in terminals:
             literal = terminal_literal(t)
@@ -59,48 +71,49 @@ class ContextualFastLexer(CustomLexer):
     """A custom lexer of lark's: `lex(lexer_state, parser_state)` (the parser's state tells
     which terminals it accepts)."""
 
-    def __init__(self, lexer_conf) -> None:
+    def __init__(self, lexer_conf: LexerConf) -> None:
         self.terminals, self.ignore, self.callbacks = lexer_configuration(lexer_conf)
         self.by_name = {t.name: t for t in self.terminals}
-        # The ignored whitespace terminal is folded into every token's match (see _Scanner).
+        # The ignored whitespace terminal is folded into every token's match (see Scanner).
         self.skip = "".join(
             f"(?:{terminal_regexp(self.by_name[n])})?" for n in self.ignore if n == "WS"
         )
-        self._by_state: dict[int, _Scanner] = {}
-        self._by_accepts: dict[frozenset[str], _Scanner] = {}
-        self._root: _Scanner | None = None
+        self._by_state: dict[int, Scanner] = {}
+        self._by_accepts: dict[frozenset[str], Scanner] = {}
+        self._root: Scanner | None = None
 
     def scanner_for(self, position: int,
-                    accepts: Callable[[int], Iterable[str]]) -> _Scanner:
+                    accepts: Callable[[int], Iterable[str]]) -> Scanner:
         """The scanner of parser state `position`, whose accepted names `accepts(position)`
         gives: the terminals that state accepts (built on first use, shared by the states
         that accept the same terminals)."""
         scanner = self._by_state.get(position)
         if scanner is None:
-            accepts = frozenset(accepts(position))
-            scanner = self._by_accepts.get(accepts)
+            accepted = frozenset(accepts(position))
+            scanner = self._by_accepts.get(accepted)
             if scanner is None:
-                names = accepts | self.ignore
-                scanner = _Scanner(
+                names = accepted | self.ignore
+                scanner = Scanner(
                     [t for t in self.terminals if t.name in names], self.ignore, self.skip
                 )
-                self._by_accepts[accepts] = scanner
+                self._by_accepts[accepted] = scanner
             self._by_state[position] = scanner
         return scanner
 
-    def _root_scanner(self) -> _Scanner:
+    def _root_scanner(self) -> Scanner:
         if self._root is None:
-            self._root = _Scanner(self.terminals, self.ignore, self.skip)
+            self._root = Scanner(self.terminals, self.ignore, self.skip)
         return self._root
 
-    def lex(self, lexer_state, parser_state):
+    def lex(self, lexer_state: LexerState,
+            parser_state: ParserState[int]) -> Iterator[Token]:
         text, pos, end = lexed_text(lexer_state)
         ignore = self.ignore
         callbacks = self.callbacks
         by_state = self._by_state
         states = state_stack(parser_state)
         ws = re.compile(self.skip) if self.skip else None
-        last = None  # the last token yielded, for the errors' history
+        last: Token | None = None  # the last token yielded, for the errors' history
         while pos < end:
             position = states[-1]
             scanner = by_state.get(position)
@@ -109,11 +122,15 @@ class ContextualFastLexer(CustomLexer):
             m = scanner.regex.match(text, pos, end)
             if m is None:
                 if ws is not None:
-                    pos = ws.match(text, pos, end).end()
+                    blank = ws.match(text, pos, end)
+                    assert blank is not None  # an optional group: it always matches
+                    pos = blank.end()
                     if pos >= end:
                         break
                 self._fail(text, pos, end, parser_state, last)
-            group = type_ = m.lastgroup
+            group = m.lastgroup
+            assert group is not None  # one of the alternatives, each a named group, matched
+            type_ = group
             retype = scanner.retype.get(group)
             if retype is not None:
                 type_ = retype.get(m.group(group), group)
@@ -125,13 +142,15 @@ class ContextualFastLexer(CustomLexer):
             last = token_from_match(m, group, type_)
             yield last
 
-    def _fail(self, text, pos, end, parser_state, last):
+    def _fail(self, text: str, pos: int, end: int, parser_state: ParserState[int],
+              last: Token | None) -> NoReturn:
         """No terminal of this state matches: report a known token in the wrong place as
         UnexpectedToken (as lark does) and anything else as UnexpectedCharacters."""
         accepts = accepted_terminals(parser_state)
         root = self._root_scanner()
         m = root.regex.match(text, pos, end)
-        if m is not None and m.lastgroup not in self.ignore and m.end() > pos:
+        if (m is not None and m.lastgroup is not None and m.lastgroup not in self.ignore
+                and m.end() > pos):
             type_ = m.lastgroup
             type_ = root.retype.get(type_, {}).get(m.group(), type_)
             token = Token(type_, m.group(), pos, end_pos=m.end())

@@ -14,8 +14,10 @@ from __future__ import annotations
 
 import difflib
 import re
+from collections.abc import Collection, Iterable
 from dataclasses import dataclass, replace
 from functools import cache
+from typing import Protocol
 
 from scriptc.diagnostics.codes import diagnostic
 from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit
@@ -29,11 +31,13 @@ from scriptc.resources import grammar_path
 from scriptc.source import Span
 from scriptc.syntax.larkshim import (
     Lark,
-    Tree,
+    ParseTree,
+    TerminalDef,
     UnexpectedCharacters,
     UnexpectedEOF,
     UnexpectedInput,
     UnexpectedToken,
+    characters_offset,
     terminal_literal,
 )
 from scriptc.syntax.lexer import ContextualFastLexer
@@ -41,9 +45,20 @@ from scriptc.syntax.scan import MAX_SYNTAX_ERRORS, Scan, scan
 from scriptc.syntax.shapes import ShapeParser
 
 
+class ItemParser(Protocol):
+    """What `parse_items` and `describe` need of a parser: lark's `parse`, and the grammar's
+    terminals, which word an error (a `ShapeParser`; the language server's parser answers
+    from its cache of item texts, see scriptc.ide.incremental)."""
+
+    @property
+    def terminals(self) -> Collection[TerminalDef]: ...
+
+    def parse(self, text: str, start: str | None = None) -> ParseTree: ...
+
+
 @dataclass(frozen=True, slots=True)
 class ParsedItem:
-    tree: Tree
+    tree: ParseTree
     base: int  # offset of the item's `[` in the file
     span: Span  # the whole item in the file
 
@@ -88,10 +103,11 @@ def condition_parser() -> ShapeParser:
 
 
 def parse_items(text: str, *, scanned: Scan | None = None,
-                parser: ShapeParser | None = None) -> ParsedScript:
+                parser: ItemParser | None = None) -> ParsedScript:
     """Scan `text` (or take `scanned`, the scan of this same text) and parse each item with
-    `parser` (default: `script_parser()`, the parser of grammar/script.lark's items). The language server passes a
-    parser that answers from its cache of item texts (scriptc.ide.incremental)."""
+    `parser` (default: `script_parser()`, the parser of grammar/script.lark's items). The
+    language server passes a parser that answers from its cache of item texts
+    (scriptc.ide.incremental)."""
     scanned = scanned if scanned is not None else scan(text)
     parser = parser if parser is not None else script_parser()
     items: list[ParsedItem] = []
@@ -114,11 +130,12 @@ def parse_items(text: str, *, scanned: Scan | None = None,
         # 20,000 stray brackets are one problem to the person reading the report.
         last = diagnostics[MAX_SYNTAX_ERRORS - 1]
         note = f"scriptc stopped after {MAX_SYNTAX_ERRORS} syntax errors; fix these first"
-        diagnostics = diagnostics[: MAX_SYNTAX_ERRORS - 1] + [replace(last, notes=last.notes + (note,))]
+        diagnostics = [*diagnostics[: MAX_SYNTAX_ERRORS - 1],
+                       replace(last, notes=(*last.notes, note))]
     return ParsedScript(items, scanned.comments, diagnostics)
 
 
-def parse_condition_tree(text: str, base: int = 0) -> tuple[Tree | None, list[Diagnostic]]:
+def parse_condition_tree(text: str, base: int = 0) -> tuple[ParseTree | None, list[Diagnostic]]:
     parser = condition_parser()
     try:
         return parser.parse(text, start="condition"), []
@@ -155,9 +172,9 @@ def _bare(name: str) -> str:
     return name.rsplit("__", 1)[-1]
 
 
-def _words(parser: Lark, names) -> list[str]:
+def _words(parser: ItemParser, names: Iterable[str]) -> list[str]:
     terminals = {t.name: t for t in parser.terminals}
-    words = set()
+    words: set[str] = set()
     for name in names:
         t = terminals.get(name)
         literal = terminal_literal(t) if t is not None else None
@@ -203,7 +220,7 @@ def _open_delimiter(text: str, upto: int) -> tuple[int, str] | None:
     return at, text[start:end] + "("
 
 
-def describe(error: UnexpectedInput, text: str, base: int, parser: Lark) -> Diagnostic:
+def describe(error: UnexpectedInput, text: str, base: int, parser: ItemParser) -> Diagnostic:
     """One diagnostic for a lark error in `text` (which starts at `base` in the file)."""
     terminals = {t.name for t in parser.terminals} | {"$END"}
     if isinstance(error, UnexpectedToken):
@@ -216,9 +233,10 @@ def describe(error: UnexpectedInput, text: str, base: int, parser: Lark) -> Diag
             at = token.start_pos if token.start_pos is not None else 0
             found = str(token)
             shown = f"`{found}`"
-        return _expected(parser, expected, text, base, at, found, shown, found_type=_bare(token.type))
+        return _expected(parser, expected, text, base, at, found, shown,
+                         found_type=_bare(token.type))
     if isinstance(error, UnexpectedCharacters):
-        at = error.pos_in_stream
+        at = characters_offset(error)
         ch = text[at] if at < len(text) else ""
         expected = {n for n in error.allowed or () if n in terminals}
         if ch in "<>=" and any(_bare(n) == "OPERATOR" for n in expected):
@@ -234,7 +252,8 @@ def describe(error: UnexpectedInput, text: str, base: int, parser: Lark) -> Diag
             return _expected(parser, expected, text, base, at, ch, f"`{ch}`", code="P005")
         return diagnostic("P005", f"unexpected character `{ch}`", Span(base + at, base + at + 1))
     if isinstance(error, UnexpectedEOF):
-        return diagnostic("P001", "unexpected end of the text", Span(base + len(text), base + len(text)))
+        end = base + len(text)
+        return diagnostic("P001", "unexpected end of the text", Span(end, end))
     return diagnostic("P001", "syntax error", Span(base, base + len(text)))
 
 
@@ -243,7 +262,8 @@ def describe(error: UnexpectedInput, text: str, base: int, parser: Lark) -> Diag
 _ELEMENTS = {"NUMBER", "STRING", "ALIAS", "THIS", "VAR_REF", "NAME"}
 
 
-def _expected(parser, expected, text, base, at, found, shown, code="P001", found_type="") -> Diagnostic:
+def _expected(parser: ItemParser, expected: set[str], text: str, base: int, at: int, found: str,
+              shown: str, code: str = "P001", found_type: str = "") -> Diagnostic:
     span = Span(base + at, base + at + len(found))
     if not _words(parser, expected):
         # The parser's state names no terminal it would take (`{ATT ?kid>$mood ...`: a field
@@ -266,17 +286,17 @@ def _expected(parser, expected, text, base, at, found, shown, code="P001", found
         closer = _OPENERS[text[at_open]]
         if any(closers.get(b) == closer for b in bare):
             others = [w for w in _words(parser, expected) if w != f"`{closer}`"]
-            help_ = f"add `{closer}`" + (f", or {_join(others)} if the list goes on" if others else "")
+            goes_on = f", or {_join(others)} if the list goes on" if others else ""
             return diagnostic(
                 "P002",
                 f"expected `{closer}` to close `{what}`, found {shown}",
                 span,
                 labels=(Label(Span(base + at_open, base + at_open + 1), f"`{what}` opened here"),),
-                help=help_,
+                help=f"add `{closer}`{goes_on}",
             )
     words = _words(parser, expected)
-    help_ = None
-    fix = None
+    help_: str | None = None
+    fix: Fix | None = None
     if "BANG" in bare and found == ")":
         help_ = "a condition is `ASSIGNMENTS ! EVALUATIONS`; the smallest is `! {TRUE}`"
     if found:

@@ -12,8 +12,8 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 
-from scriptc.diagnostics.model import Diagnostic, Label
 from scriptc.diagnostics.codes import diagnostic
+from scriptc.diagnostics.model import Diagnostic, Label
 from scriptc.language import STRING_PATTERN
 from scriptc.source import Span
 
@@ -25,7 +25,7 @@ _STRING = re.compile(STRING_PATTERN)
 # item is then scanned the long way, which reports what is wrong).
 _PLAIN_ITEM = re.compile(rf'\[(?:[^\[\]"%]++|{STRING_PATTERN})*+\]')
 _STRAY = re.compile(r"[^\[%\s][^\[%]*")
-_SPACE = re.compile(r"\s*")
+_SPACE = re.compile(r"\s*")  # (matches everywhere, maybe nothing)
 
 
 @dataclass(frozen=True, slots=True)
@@ -72,7 +72,9 @@ def _last_non_space(text: str, start: int, end: int) -> int:
 def scan(text: str) -> Scan:
     result = Scan()
     n = len(text)
-    pos = _SPACE.match(text, 0).end()
+    blank = _SPACE.match(text, 0)
+    assert blank is not None
+    pos = blank.end()
     while pos < n:
         ch = text[pos]
         if ch == "%":
@@ -88,6 +90,7 @@ def scan(text: str) -> Scan:
                 return result
         else:
             m = _STRAY.match(text, pos)
+            assert m is not None  # `ch` is neither blank nor `%` nor `[`
             end = _last_non_space(text, pos, m.end())
             if not result.full:
                 shown = text[pos:end].splitlines()[0][:40]
@@ -103,7 +106,9 @@ def scan(text: str) -> Scan:
                     )
                 )
             pos = m.end()
-        pos = _SPACE.match(text, pos).end()
+        blank = _SPACE.match(text, pos)
+        assert blank is not None
+        pos = blank.end()
     return result
 
 

@@ -32,15 +32,22 @@ test_shapes.py checks that trees are lark's, for generated and hand-written item
 from __future__ import annotations
 
 import re
+from collections.abc import Callable, Collection
+from typing import Any, TypeAlias
 
 from scriptc.syntax.larkshim import (
+    Action,
+    Child,
     LalrTable,
     Lark,
+    ParseTree,
+    TerminalDef,
     Token,
     Tree,
     lexer_of,
     token_from_match,
 )
+from scriptc.syntax.lexer import ContextualFastLexer, Scanner
 
 MAX_NODES = 50_000
 MAX_SHAPE_TOKENS = 2_000  # longer items are parsed, never recorded
@@ -49,20 +56,30 @@ MAX_SHAPE_TOKENS = 2_000  # longer items are parsed, never recorded
 # repository of activities.
 HOT = 256
 
+# Python code of a function and the constants it reads (`C`), see `_template`.
+_Code: TypeAlias = tuple[str, list[object]]
+# A function that `exec` built from generated code (`_compile`): the code says what it takes
+# and returns, the attribute it is stored in says it to the type checker.
+_Generated: TypeAlias = Callable[..., Any]
+# One token of an item read by the table parse: its match, the match's group (the terminal the
+# scanner matched), its type (the keyword, for a name that is one) and the scanner that read it.
+_Step: TypeAlias = tuple[re.Match[str], str, str, Scanner]
+
 
 class _Node:
-    __slots__ = ("match", "retype", "children", "template", "build", "steps", "seen", "hot",
-                 "next")
+    __slots__ = ("build", "children", "hot", "match", "next", "retype", "seen", "steps",
+                 "template")
 
-    def __init__(self, scanner) -> None:
+    def __init__(self, scanner: Scanner) -> None:
         self.match = scanner.regex.match
         self.retype = scanner.retype
         self.children: dict[str, _Node] = {}
         # Where an item ended (the node is a shape):
         # the tree's code, reading the trie walk's matches and reading the one match of `hot`
-        self.template: tuple[tuple[str, list], tuple[str, list]] | None = None
-        self.build = None  # the compiled template, from the second item of this shape on
-        self.steps: list[tuple[str, str, object]] = []  # (group, type, scanner) per token
+        self.template: tuple[_Code, _Code] | None = None
+        # the compiled template, from the second item of this shape on
+        self.build: Callable[[list[re.Match[str]]], ParseTree] | None = None
+        self.steps: list[tuple[str, str, Scanner]] = []  # (group, type, scanner) per token
         self.seen = 0  # items of this shape built by `build`
         self.hot: _Hot | None = None  # the shape's own regex, from HOT items on
         self.next: _Node | None = None  # the shape of the item that followed the last one
@@ -72,9 +89,11 @@ class _Hot:
     """A frequent shape's regex (one match reads the whole item), the test of the keywords'
     values it cannot express, and the template over that one match."""
 
-    __slots__ = ("match", "check", "build")
+    __slots__ = ("build", "check", "match")
 
-    def __init__(self, match, check, build) -> None:
+    def __init__(self, match: Callable[[str], re.Match[str] | None],
+                 check: Callable[[re.Match[str]], bool],
+                 build: Callable[[re.Match[str]], ParseTree]) -> None:
         self.match, self.check, self.build = match, check, build
 
 
@@ -85,27 +104,32 @@ class ShapeParser:
         self._lark = lark
         self.start = start
         self._table = LalrTable(lark)
-        self._lexer = lexer_of(lark)  # a ContextualFastLexer
+        lexer = lexer_of(lark)
+        if not isinstance(lexer, ContextualFastLexer):  # its scanners are what the trie holds
+            raise TypeError("the shape parser reads a Lark built with lexer=ContextualFastLexer")
+        self._lexer = lexer
         self._ignore = self._lexer.ignore
         self._ws = re.compile(self._lexer.skip or r"\s*")
         self._skipped = {"WS"} if self._lexer.skip else set()  # the terminal `skip` reads
         self._start_state = self._table.start_state(start)
         self._end_state = self._table.end_state(start)
-        self._actions: dict[int, dict[str, tuple]] = {}
+        self._actions: dict[int, dict[str, Action]] = {}
         self._reset()
 
-    def __getattr__(self, name: str):
-        return getattr(self._lark, name)
+    @property
+    def terminals(self) -> Collection[TerminalDef]:
+        """lark's terminals of the grammar (`parser.describe` words an error with them)."""
+        return self._lark.terminals
 
     def _reset(self) -> None:
         self._root = _Node(self._scanner(self._start_state))
         self._nodes = 1
         self._last: _Node | None = None  # the shape of the item parsed last
 
-    def _scanner(self, state: int):
+    def _scanner(self, state: int) -> Scanner:
         return self._lexer.scanner_for(state, self._table.accepts)
 
-    def parse(self, text: str, start: str | None = None) -> Tree:
+    def parse(self, text: str, start: str | None = None) -> ParseTree:
         if start is not None and start != self.start:
             return self._lark.parse(text, start=start)
         last = self._last
@@ -120,22 +144,24 @@ class ShapeParser:
                 return hot.build(m)
         node = self._root
         pos = 0
-        matches = []
+        matches: list[re.Match[str]] = []
         append = matches.append
         while True:
             m = node.match(text, pos)
             if m is None:
                 break
             group = m.lastgroup
+            assert group is not None  # a scanner's alternatives are named groups: one matched
             retype = node.retype.get(group)
             type_ = retype.get(m.group(group), group) if retype is not None else group
             append(m)
             pos = m.end()
-            node = node.children.get(type_)
-            if node is None:
+            child = node.children.get(type_)
+            if child is None:
                 return self._new_shape(text)
+            node = child
         build = node.build
-        if build is None or (pos != len(text) and self._ws.match(text, pos).end() != len(text)):
+        if build is None or (pos != len(text) and self._ws.fullmatch(text, pos) is None):
             return self._new_shape(text)
         if last is not None:
             last.next = node
@@ -147,7 +173,7 @@ class ShapeParser:
 
     # -- shapes not seen yet ----------------------------------------------------------------
 
-    def _new_shape(self, text: str) -> Tree:
+    def _new_shape(self, text: str) -> ParseTree:
         parsed = self._table_parse(text)
         if parsed is None:
             return self._lark.parse(text, start=self.start)  # raises lark's error
@@ -157,21 +183,21 @@ class ShapeParser:
         if self._nodes + len(path) > MAX_NODES:
             self._reset()
         node = self._root
-        for i, (_m, type_, _scanner) in enumerate(path):
+        for i, (_m, _group, type_, _scanner) in enumerate(path):
             child = node.children.get(type_)
             if child is None:
                 # (after an ignored token, a comment, the state and so the scanner are the
                 # same; the node is another one: the template counts the comment's match)
-                child = node.children[type_] = _Node(path[i + 1][2] if i + 1 < len(path)
+                child = node.children[type_] = _Node(path[i + 1][3] if i + 1 < len(path)
                                                      else last)
                 self._nodes += 1
             node = child
         if node.template is None:
-            matches = [m for m, _, _ in path]
+            starts = [m.start(group) for m, group, _, _ in path]
             node.template = (
-                _template(tree, matches, lambda i: f"ms[{i}]", lambda i: matches[i].lastgroup),
-                _template(tree, matches, lambda i: "ms", lambda i: f"s{i}"))
-            node.steps = [(m.lastgroup, type_, scanner) for m, type_, scanner in path]
+                _template(tree, starts, lambda i: f"ms[{i}]", lambda i: path[i][1]),
+                _template(tree, starts, lambda i: "ms", lambda i: f"s{i}"))
+            node.steps = [(group, type_, scanner) for _, group, type_, scanner in path]
         elif node.build is None:
             node.build = _compile(*node.template[0])
         self._last = None
@@ -183,14 +209,15 @@ class ShapeParser:
         conditional that fails when another alternative matched; then only blanks. It matches
         exactly the items the trie walk reads as this shape, but for the keywords: which of a
         name's values are keywords is checked on the match (`check`)."""
-        parts = []
-        checks = []
-        constants: list = []
+        assert node.template is not None  # (a shape is hot after HOT items built from it)
+        parts: list[str] = []
+        checks: list[str] = []
+        constants: list[object] = []
         for i, (group, type_, scanner) in enumerate(node.steps):
             # The alternatives after the token's own are never tried when it matches: only
             # those before it can take its place. Whitespace cannot either: the skip before
             # took all of it (it matters only after every other alternative failed).
-            before = []
+            before: list[str] = []
             own = ""
             for name, regexp in scanner.alternatives:
                 if name == group:
@@ -215,35 +242,36 @@ class ShapeParser:
                          constants)
         return _Hot(re.compile("".join(parts)).match, check, _compile(*node.template[1]))
 
-    def _state_actions(self, state: int) -> dict[str, tuple]:
-        """The parse table's row of `state`: shift (next state, 0, None, None) or reduce
-        (None, the rule's length, lark's callback, the rule's non-terminal)."""
+    def _state_actions(self, state: int) -> dict[str, Action]:
+        """The parse table's row of `state` (see `larkshim.Action`)."""
         row = self._actions.get(state)
         if row is None:
             row = self._actions[state] = self._table.actions(state)
         return row
 
-    def _table_parse(self, text: str):
-        """lark's LALR loop over its own table: (tree, [(match, type, scanner) per token],
-        the scanner of the last state), or None where lark would raise."""
+    def _table_parse(self, text: str) -> tuple[ParseTree, list[_Step], Scanner] | None:
+        """lark's LALR loop over its own table: (tree, the steps of the tokens, the scanner
+        of the last state), or None where lark would raise."""
         actions = self._state_actions
         ignore = self._ignore
         states = [self._start_state]
-        values: list = []
-        path = []
+        values: list[Child] = []
+        path: list[_Step] = []
         pos, end = 0, len(text)
+        token: Token | None
         while True:
             scanner = self._scanner(states[-1])
             m = scanner.regex.match(text, pos)
             if m is None:
-                if pos < end and self._ws.match(text, pos).end() < end:
+                if pos < end and self._ws.fullmatch(text, pos) is None:
                     return None
                 type_, token = "$END", None
             else:
                 group = m.lastgroup
+                assert group is not None  # a scanner's alternatives are named groups
                 retype = scanner.retype.get(group)
                 type_ = retype.get(m.group(group), group) if retype is not None else group
-                path.append((m, type_, scanner))
+                path.append((m, group, type_, scanner))
                 pos = m.end()
                 if type_ in ignore:
                     continue
@@ -253,44 +281,50 @@ class ShapeParser:
                 action = row.get(type_)
                 if action is None:
                     return None
-                shift, size, callback, origin = action
-                if shift is not None:
-                    states.append(shift)
+                if action[0] is not None:  # a shift
+                    states.append(action[0])
                     values.append(token)
                     break
+                _, size, callback, origin = action
                 children = values[-size:] if size else []
                 if size:
                     del states[-size:], values[-size:]
                 values.append(callback(children))
                 state = actions(states[-1])[origin][0]
+                assert state is not None  # the goto of a reduction is a shift (lark asserts it)
                 states.append(state)
                 if token is None and state == self._end_state:
                     return values[-1], path, scanner
                 row = actions(state)
 
 
-def _compile(code: str, constants: list):
+def _compile(code: str, constants: list[object]) -> _Generated:
     """The function `build` that `code` defines, reading `constants` as `C`."""
-    namespace = {"T": token_from_match, "Tree": Tree, "C": constants}
-    exec(compile(code, "<item shape>", "exec"), namespace)  # noqa: S102
-    return namespace["build"]
+    namespace: dict[str, object] = {"T": token_from_match, "Tree": Tree, "C": constants}
+    exec(compile(code, "<item shape>", "exec"), namespace)
+    build = namespace["build"]
+    assert callable(build)
+    return build
 
 
-def _template(tree: Tree, matches: list[re.Match], match_of, group_of) -> tuple[str, list]:
+def _template(tree: ParseTree, starts: list[int], match_of: Callable[[int], str],
+              group_of: Callable[[int], str]) -> _Code:
     """Python code of a function `build(ms)` that builds `tree` again from the matches `ms` of
     an item of the same shape, and the constants it reads (rule names and token types, as lark
-    made them). Token i is read from the match `match_of(i)`, group `group_of(i)`."""
-    index = {m.start(m.lastgroup): i for i, m in enumerate(matches)}
-    constants: list = []
+    made them). Token i starts at `starts[i]` in the item; it is read from the match
+    `match_of(i)`, group `group_of(i)`."""
+    index = {start: i for i, start in enumerate(starts)}
+    constants: list[object] = []
 
-    def constant(value) -> str:
+    def constant(value: object) -> str:
         constants.append(value)
         return f"C[{len(constants) - 1}]"
 
-    def code(node) -> str:
+    def code(node: Token | ParseTree | None) -> str:
         if node is None:
             return "None"
         if isinstance(node, Token):
+            assert node.start_pos is not None  # (the table parse's tokens have their offsets)
             i = index[node.start_pos]
             return f"T({match_of(i)}, {constant(group_of(i))}, {constant(node.type)})"
         children = ", ".join(code(child) for child in node.children)
