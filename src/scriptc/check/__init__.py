@@ -20,7 +20,8 @@ produced before sorting:
                                             (`ramps.py`) against the robot profile
 
 Importing this package loads only the standard library, `scriptc.ir`/`scriptc.diagnostics`,
-`scriptc.robot.profile` and `scriptc.robot.motion` (difflib is imported when a suggestion is needed).
+`scriptc.robot.profile` and `scriptc.robot.motion` (difflib is imported when a suggestion is
+needed).
 """
 
 from __future__ import annotations
@@ -31,12 +32,12 @@ from scriptc.check.context import Context
 from scriptc.check.flow import check_flow
 from scriptc.check.labels import check_labels
 from scriptc.check.messages import check_messages
-from scriptc.check.safety import check_safety
 from scriptc.check.ranges import check_values
+from scriptc.check.safety import check_safety
 from scriptc.diagnostics.model import Diagnostic
 from scriptc.ir.builtins import STANDARD, FunctionRegistry
-from scriptc.robot.profile import Profile
 from scriptc.ir.nodes import Script
+from scriptc.robot.profile import Profile
 from scriptc.source import SourceFile, SourceKind
 
 PASSES = (

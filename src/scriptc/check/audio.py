@@ -9,8 +9,8 @@ import posixpath
 import re
 
 from scriptc.check.context import Context
-from scriptc.diagnostics.model import Diagnostic
 from scriptc.diagnostics.codes import diagnostic
+from scriptc.diagnostics.model import Diagnostic
 from scriptc.ir.nodes import InstructionBlock
 
 SILENCE = "Silence"
@@ -43,8 +43,8 @@ def check_audio(ctx: Context) -> list[Diagnostic]:
                         "A001",
                         f"the audio path `{path}` is absolute",
                         ao.track_path.span,
-                        notes=("an absolute path names a file on one machine; the activity "
-                               "breaks when it is copied to the robot or to another computer",),
+                        notes=(("an absolute path names a file on one machine; the activity "
+                                "breaks when it is copied to the robot or to another computer"),),
                         help="write the path relative to the activity repository, as the "
                              "thesis does: `plugins/audio_control/songs/...`",
                     )

@@ -17,8 +17,8 @@ from __future__ import annotations
 import bisect
 
 from scriptc.check.context import Context, closest, code_list, suggestion
-from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit
 from scriptc.diagnostics.codes import diagnostic
+from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit
 from scriptc.ir.builtins import CLASSES
 from scriptc.ir.nodes import (
     AliasRef,
@@ -68,7 +68,8 @@ def check_conditions(ctx: Context) -> list[Diagnostic]:
     if not ctx.jumps:
         return out
     sites = _binding_sites(ctx)
-    classes = {alias: {_bare(a.class_name.text, "#") for _, a in where} for alias, where in sites.items()}
+    classes = {alias: {_bare(a.class_name.text, "#") for _, a in where}
+               for alias, where in sites.items()}
     u_bound: set[str] = set()
     for position, (_, jump) in enumerate(ctx.jumps):
         condition = jump.condition
@@ -161,8 +162,8 @@ class _ConditionChecker(ConditionVisitor):
                     f"the alias `{text}` is bound twice in one condition",
                     alias.span,
                     labels=(Label(first.alias.span, "first bound here"),),
-                    notes=("an entity holds one alias at a time (thesis 4.3); the second "
-                           "assignment rebinds the alias and the first entity is lost",),
+                    notes=(("an entity holds one alias at a time (thesis 4.3); the second "
+                            "assignment rebinds the alias and the first entity is lost"),),
                     help="give the second entity its own alias",
                 )
             )
@@ -218,11 +219,13 @@ class _ConditionChecker(ConditionVisitor):
             help = f"move the CLASS assignment that binds `{text}` before its first use"
         elif elsewhere is not None and elsewhere[0] < self.position:
             asg = elsewhere[1]
-            labels.append(Label(asg.scope.span, f"an earlier block binds `{text}` with scope "
-                                                f"`{asg.scope.text}`, which does not last until here"))
+            labels.append(Label(asg.scope.span,
+                                f"an earlier block binds `{text}` with scope "
+                                f"`{asg.scope.text}`, which does not last until here"))
             help = f"bind `{text}` with scope `U` there, or bind it again in this condition"
         elif elsewhere is not None:
-            labels.append(Label(elsewhere[1].alias.span, f"`{text}` is bound only in a later block"))
+            labels.append(Label(elsewhere[1].alias.span,
+                                f"`{text}` is bound only in a later block"))
             help = f"bind `{text}` in this condition or in an earlier jump block with scope `U`"
         else:
             help = (f"bind it first, e.g. `{{CLASS #Human U {text} (B: near(1.5))}}` before "
@@ -233,9 +236,9 @@ class _ConditionChecker(ConditionVisitor):
                 f"the alias `{text}` is used before it is bound",
                 alias.span,
                 labels=labels,
-                notes=("assignments run left to right; only CLASS assignments bind aliases, "
-                       "and only earlier ones in this condition or earlier jump blocks with "
-                       "scope `U` count",),
+                notes=(("assignments run left to right; only CLASS assignments bind aliases, "
+                        "and only earlier ones in this condition or earlier jump blocks with "
+                        "scope `U` count"),),
                 help=help,
             )
         )
@@ -259,8 +262,8 @@ class _ConditionChecker(ConditionVisitor):
                 "R009",
                 "`?THIS` used outside the tests of a CLASS assignment",
                 alias.span,
-                notes=("`?THIS` is the candidate entity a CLASS assignment is testing; "
-                       "elsewhere there is no candidate",),
+                notes=(("`?THIS` is the candidate entity a CLASS assignment is testing; "
+                        "elsewhere there is no candidate"),),
                 help="name the entity by the alias a CLASS assignment bound it to",
             )
         )
@@ -314,7 +317,8 @@ class _ConditionChecker(ConditionVisitor):
             return
         labels = []
         if via is not None and via[1] is not None:
-            labels.append(Label(via[1].class_name.span, f"`{via[0]}` is bound to {_a(cls)} `{cls}` here"))
+            labels.append(Label(via[1].class_name.span,
+                                f"`{via[0]}` is bound to {_a(cls)} `{cls}` here"))
         best = closest(field, fields)
         help, fix = suggestion(
             self.ctx, best, "a field", name.span,
@@ -346,8 +350,8 @@ class _ConditionChecker(ConditionVisitor):
             )
             self.out.append(
                 diagnostic("R003", f"unknown {kind} function `{name}`", call.name.span,
-                           notes=("functions come from the function registry: the standard "
-                                  "set and those the activity repository declares",),
+                           notes=(("functions come from the function registry: the standard "
+                                   "set and those the activity repository declares"),),
                            help=help, fix=fix)
             )
             return
@@ -358,8 +362,8 @@ class _ConditionChecker(ConditionVisitor):
                     f"`{name}` is {_article(function.kind)} {function.kind} function, "
                     f"used as {_article(kind)} {kind} function",
                     call.name.span,
-                    notes=(f"{_KIND_ROLE[kind]}; `{function.signature}` "
-                           f"{_KIND_RETURNS[function.kind]}",),
+                    notes=((f"{_KIND_ROLE[kind]}; `{function.signature}` "
+                            f"{_KIND_RETURNS[function.kind]}"),),
                     help=f"the {kind} functions are {code_list(registry.names(kind))}",
                 )
             )

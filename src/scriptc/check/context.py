@@ -8,13 +8,14 @@ fixes that insert a line) and did-you-mean suggestions.
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass
 from functools import cached_property
 
 from scriptc.diagnostics.model import Fix, TextEdit
 from scriptc.ir.builtins import STANDARD, FunctionRegistry
-from scriptc.robot.profile import DEFAULT_PROFILE, Profile
 from scriptc.ir.nodes import Block, InstructionBlock, JumpBlock, Name, Script
+from scriptc.robot.profile import DEFAULT_PROFILE, Profile
 from scriptc.source import SourceFile, SourceKind, Span
 
 
@@ -137,7 +138,7 @@ def suggestion(ctx: Context, best: str | None, what: str, span: Span, replacemen
     return help, Fix(f"{verb} `{best}`", (TextEdit(span, new),), safe=False)
 
 
-def closest(word: str, candidates, *, cutoff: float = 0.6) -> str | None:
+def closest(word: str, candidates: Iterable[str], *, cutoff: float = 0.6) -> str | None:
     """The candidate most like `word`: an exact match ignoring case first, then difflib's
     best ratio above `cutoff`. difflib is imported here so `import scriptc.check` stays cheap."""
     lowered = word.lower()
@@ -151,11 +152,11 @@ def closest(word: str, candidates, *, cutoff: float = 0.6) -> str | None:
     return matches[0] if matches else None
 
 
-def code_list(items) -> str:
+def code_list(items: Iterable[object]) -> str:
     """`a`, `b` and `c`."""
-    items = [f"`{i}`" for i in items]
-    if not items:
+    quoted = [f"`{i}`" for i in items]
+    if not quoted:
         return "none"
-    if len(items) == 1:
-        return items[0]
-    return ", ".join(items[:-1]) + " and " + items[-1]
+    if len(quoted) == 1:
+        return quoted[0]
+    return ", ".join(quoted[:-1]) + " and " + quoted[-1]

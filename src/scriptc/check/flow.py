@@ -13,10 +13,19 @@ Everything here is iterative (no recursion): scripts may have 10,000 blocks and 
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 from scriptc.check.context import Context
-from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit
 from scriptc.diagnostics.codes import diagnostic
-from scriptc.ir.nodes import InstructionBlock, JumpBlock, Name, TerminusBlock, block_path
+from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit
+from scriptc.ir.nodes import (
+    Block,
+    InstructionBlock,
+    JumpBlock,
+    Name,
+    TerminusBlock,
+    block_path,
+)
 from scriptc.source import Span
 
 # A cycle's report labels at most this many of its other blocks; a note gives the rest.
@@ -55,8 +64,8 @@ def successors(ctx: Context) -> tuple[list[tuple[int, ...]], bool]:
     return succ, resolved
 
 
-def next_timed(blocks, succ: list[tuple[int, ...]], timed, starts: tuple[int, ...],
-               limit: int) -> list[tuple[int, int]]:
+def next_timed(blocks: Sequence[Block], succ: list[tuple[int, ...]], timed: Sequence[bool],
+               starts: tuple[int, ...], limit: int) -> list[tuple[int, int]]:
     """The blocks that take time (`timed[i]`) control reaches from `starts` through blocks
     that take none (jumps, sensor blocks, empty instruction blocks: all in the same
     millisecond), each with the last jump passed (-1: none), depth first in the order of the
@@ -148,7 +157,8 @@ def _unreachable(ctx: Context, succ: list[tuple[int, ...]], out: list[Diagnostic
         i = j + 1
 
 
-def strongly_connected(nodes: list[int], succ: list[tuple[int, ...]], keep: list[bool]) -> list[list[int]]:
+def strongly_connected(nodes: list[int], succ: list[tuple[int, ...]],
+                       keep: list[bool]) -> list[list[int]]:
     """Tarjan's strongly connected components of the subgraph of nodes with `keep[v]`,
     iteratively. Components come out in reverse topological order."""
     n = len(succ)
@@ -218,9 +228,10 @@ def _cycles(ctx: Context, succ: list[tuple[int, ...]], out: list[Diagnostic]) ->
         component.sort()
         head = component[0]
         others = component[1:]
-        labels = [Label(ctx.block_head(blocks[v]), "part of the cycle") for v in others[:_MAX_CYCLE_LABELS]]
-        notes = ["the map does not change while blocks are read, so once the robot enters this "
-                 "cycle it repeats the same jumps forever inside one tick"]
+        labels = [Label(ctx.block_head(blocks[v]), "part of the cycle")
+                  for v in others[:_MAX_CYCLE_LABELS]]
+        notes = [("the map does not change while blocks are read, so once the robot enters this "
+                  "cycle it repeats the same jumps forever inside one tick")]
         if len(others) > _MAX_CYCLE_LABELS:
             notes.append(f"{len(others) - _MAX_CYCLE_LABELS} more blocks are part of the cycle")
         timeless = [v for v in component if isinstance(blocks[v], InstructionBlock)]
@@ -255,14 +266,15 @@ def _terminus(ctx: Context, out: list[Diagnostic]) -> None:
     if ctx.is_script_syntax:
         at = Span(last.span.end, last.span.end)
         fix = Fix("end the script with a terminus block",
-                  (TextEdit(at, ctx.newline + ctx.indent_at(last.span.start) + "[b##blk_terminus]"),))
+                  (TextEdit(at, ctx.newline + ctx.indent_at(last.span.start)
+                            + "[b##blk_terminus]"),))
     out.append(
         diagnostic(
             "F003",
             "the script has no terminus block",
             ctx.block_head(last),
-            notes=("the script ends by running past its last block (valid: the thesis's "
-                   "`dance_example.json` does so)",),
+            notes=(("the script ends by running past its last block (valid: the thesis's "
+                    "`dance_example.json` does so)"),),
             help="end the script explicitly with "
                  + ("`[b##blk_terminus]`" if ctx.is_script_syntax else '`{"type": "terminus"}`'),
             fix=fix,

@@ -5,8 +5,8 @@ goal ids are unique (L002), and every jump target names a label of the same scri
 from __future__ import annotations
 
 from scriptc.check.context import Context, closest, suggestion
-from scriptc.diagnostics.model import Diagnostic, Label
 from scriptc.diagnostics.codes import diagnostic
+from scriptc.diagnostics.model import Diagnostic, Label
 from scriptc.ir.nodes import Name
 
 # Suggestions cost a difflib scan over every label; past this many distinct unknown targets
@@ -34,8 +34,8 @@ def check_labels(ctx: Context) -> list[Diagnostic]:
         gid = goal.id
         if not gid.text:
             continue
-        first = seen.get(gid.text)
-        if first is None:
+        first_use = seen.get(gid.text)
+        if first_use is None:
             seen[gid.text] = gid
             continue
         out.append(
@@ -43,9 +43,9 @@ def check_labels(ctx: Context) -> list[Diagnostic]:
                 "L002",
                 f"the goal id `{gid.text}` is used by more than one goal",
                 gid.span,
-                labels=(Label(first.span, f"`{first.text}` first used here"),),
-                notes=("the map records goals as reached, interrupted or failed by id, so two "
-                       "goals with one id cannot be told apart",),
+                labels=(Label(first_use.span, f"`{first_use.text}` first used here"),),
+                notes=(("the map records goals as reached, interrupted or failed by id, so two "
+                        "goals with one id cannot be told apart"),),
                 help="give each goal its own id",
             )
         )

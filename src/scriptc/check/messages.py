@@ -6,8 +6,8 @@ omega list undoes what the alfa list did (M004).
 from __future__ import annotations
 
 from scriptc.check.context import Context
-from scriptc.diagnostics.model import Diagnostic, Fix, TextEdit
 from scriptc.diagnostics.codes import diagnostic
+from scriptc.diagnostics.model import Diagnostic, Fix, TextEdit
 from scriptc.ir.nodes import RuleMessage
 from scriptc.language import MUTEXES, RULE_ACTIONS, quote
 from scriptc.source import Span
@@ -34,7 +34,8 @@ def check_messages(ctx: Context) -> list[Diagnostic]:
 
 
 def _letters(ctx: Context, msg: RuleMessage, out: list[Diagnostic]) -> None:
-    for name, table, what in ((msg.action, RULE_ACTIONS, "rule action"), (msg.mutex, MUTEXES, "mutex command")):
+    for name, table, what in ((msg.action, RULE_ACTIONS, "rule action"),
+                              (msg.mutex, MUTEXES, "mutex command")):
         if name.text in table:
             continue
         shown = f"`{name.text}`" if name.text else "nothing"
@@ -76,9 +77,10 @@ def _alfa_order(ctx: Context, out: list[Diagnostic]) -> None:
             message = "only the last alfa message may unlock the map with `U`"
         else:
             message = "alfa messages must never lock the map with `L`"
-        notes = ()
+        notes: tuple[str, ...] = ()
         if letter == "U":
-            notes = ("unlocking before the last message lets the map run through a half-built chain of rules",)
+            notes = (("unlocking before the last message lets the map run through a half-built "
+                      "chain of rules"),)
         out.append(
             diagnostic("M001", message, msg.mutex.span, notes=notes, help=_ALFA_HELP,
                        fix=_mutex_fix(ctx, msg, expected))
@@ -123,7 +125,7 @@ def _balance(ctx: Context, out: list[Diagnostic]) -> None:
         return
     if alfa:
         last = alfa[-1]
-        undo = [(m, _undo(m)) for m in alfa if _undo(m)]
+        undo = [(m, letter) for m in alfa if (letter := _undo(m))]
         fix = None
         if undo and ctx.is_script_syntax:
             indent = ctx.indent_at(last.span.start)
@@ -142,8 +144,8 @@ def _balance(ctx: Context, out: list[Diagnostic]) -> None:
                 "M003",
                 "the script has alfa messages but no omega message",
                 last.span,
-                notes=("the alfa list changes the chain of rules when the script is loaded; "
-                       "nothing restores it, or locks the map, when the script is unloaded",),
+                notes=(("the alfa list changes the chain of rules when the script is loaded; "
+                        "nothing restores it, or locks the map, when the script is unloaded"),),
                 help="add omega messages after the alfa list, the first with `L`, that undo what "
                      "the alfa messages did",
                 fix=fix,
@@ -156,8 +158,8 @@ def _balance(ctx: Context, out: list[Diagnostic]) -> None:
                 "M003",
                 "the script has omega messages but no alfa message",
                 first.span,
-                notes=("the omega list locks the map when the script is unloaded, but no alfa "
-                       "message of this script unlocks it with `U` when the script is loaded",),
+                notes=(("the omega list locks the map when the script is unloaded, but no alfa "
+                        "message of this script unlocks it with `U` when the script is loaded"),),
                 help="add alfa messages before the omega list, the last with `U`",
             )
         )
@@ -178,16 +180,17 @@ def _leaks(ctx: Context, out: list[Diagnostic]) -> None:
         fix = None
         if ctx.is_script_syntax:
             at = Span(last.span.end, last.span.end)
-            fix = Fix(f"add `{line}` to the omega list", (TextEdit(at, ctx.newline + indent + line),),
-                      safe=False)
+            fix = Fix(f"add `{line}` to the omega list",
+                      (TextEdit(at, ctx.newline + indent + line),), safe=False)
         out.append(
             diagnostic(
                 "M004",
-                f"the omega messages do not undo alfa `{msg.action.text}` on rule `{msg.id.text}`",
+                f"the omega messages do not undo alfa `{msg.action.text}` on rule "
+                f"`{msg.id.text}`",
                 msg.id.span,
-                notes=(f"alfa `{msg.action.text}` ({RULE_ACTIONS[msg.action.text]}) is undone by "
-                       f"omega `{letter}` ({RULE_ACTIONS[letter]}); without it the change outlives "
-                       "the script",),
+                notes=((f"alfa `{msg.action.text}` ({RULE_ACTIONS[msg.action.text]}) is undone "
+                        f"by omega `{letter}` ({RULE_ACTIONS[letter]}); without it the change "
+                        "outlives the script"),),
                 help=f"add `{line}` to the omega list",
                 fix=fix,
             )

@@ -30,24 +30,28 @@ from __future__ import annotations
 
 import math
 from collections import deque
+from itertools import pairwise
 
 from scriptc.check.context import Context
 from scriptc.check.flow import next_timed, successors
-from scriptc.diagnostics.model import Diagnostic, Label
 from scriptc.diagnostics.codes import diagnostic
+from scriptc.diagnostics.model import Diagnostic, Label
 from scriptc.ir.nodes import InstructionBlock, MoveCommand, Number
 from scriptc.robot.motion import (
     GROUPS,
     REST,
     BlockRun,
     Entry,
+    EntryKey,
     Motion,
+    Pose,
+    Velocity,
     centred_bound,
     centred_ms,
+    ideal_pose,
     limit_ms,
     limit_speed,
     rates_of,
-    ideal_pose,
     run_block,
     track_steps,
 )
@@ -66,6 +70,16 @@ _RUNS_PER_BLOCK = 3
 _BOUND_SHARE = 0.9
 _EXIT_SEARCH = 256  # blocks that take no time crossed per search for the next blocks
 
+# Where a run leaves the robot, the governed pose minus the script's: (dx, dy, dtheta).
+_Error = tuple[float, float, float]
+# The block whose run adds the most to a chain's error so far: (block, its entry, how much;
+# `_size`), or `_NO_BLAME` before any.
+_Blame = tuple[int, EntryKey, float]
+_NO_BLAME: _Blame = (-1, REST.key(), 0.0)
+# A state followed along the control flow: (block, entry, error so far, the chain's first
+# block, blame).
+_State = tuple[int, Entry, _Error, int, _Blame]
+
 
 def number(n: Number) -> float | None:
     """The number, or None when it is not a finite one (V002/V003 report those)."""
@@ -82,23 +96,28 @@ def whole_ms(n: Number) -> int | None:
     return int(v) if v is not None and v >= 0 and v == int(v) else None
 
 
+# `_Moves.key`: blocks with the same steps and length run alike.
+_MovesKey = tuple[tuple[tuple[int, Velocity], ...], int]
+
+
 class _Moves:
     """An instruction block's move track, read: the steps of its velocity (within the speed
     limits), its length, and when each command starts (ms from the block's start)."""
 
-    __slots__ = ("index", "block", "commands", "starts", "steps", "length", "key", "ideal")
+    __slots__ = ("block", "commands", "ideal", "index", "key", "length", "starts", "steps")
 
     def __init__(self, index: int, block: InstructionBlock, commands: list[MoveCommand],
-                 starts: list[int], steps, length: int) -> None:
+                 starts: list[int], steps: list[tuple[int, Velocity]], length: int) -> None:
         self.index, self.block, self.commands, self.starts = index, block, commands, starts
         self.steps, self.length = steps, length
         self.key = (tuple(steps), length)
-        self.ideal = None  # where the steps take the robot (`motion.ideal_pose`), when needed
+        # where the steps take the robot (`motion.ideal_pose`), when needed
+        self.ideal: Pose | None = None
 
     def command_at(self, t: int) -> MoveCommand | None:
         """The command that starts at `t`, or the last one started before."""
         found = None
-        for command, start in zip(self.commands, self.starts):
+        for command, start in zip(self.commands, self.starts, strict=True):  # read together
             if start > t:
                 break
             found = command
@@ -109,25 +128,26 @@ def _read(index: int, block: InstructionBlock, length: int | None,
           profile: Profile) -> _Moves | None:
     if not length or length < 0:
         return None
-    moves, starts = [], []
+    moves: list[tuple[Velocity, int, int]] = []
+    starts: list[int] = []
     t = 0
     for mv in block.moves:
-        values = (number(mv.v_x), number(mv.v_y), number(mv.v_theta))
+        v_x, v_y, v_theta = number(mv.v_x), number(mv.v_y), number(mv.v_theta)
         wait, duration = whole_ms(mv.wait_t), whole_ms(mv.duration)
-        if None in values or wait is None or duration is None:
+        if v_x is None or v_y is None or v_theta is None or wait is None or duration is None:
             return None
         t += wait
         starts.append(t)
         t += duration
-        moves.append((limit_speed(values, profile)[0], wait, duration))
+        moves.append((limit_speed((v_x, v_y, v_theta), profile)[0], wait, duration))
     return _Moves(index, block, list(block.moves), starts, track_steps(moves), length)
 
 
-def _off(error) -> tuple[float, float]:
+def _off(error: _Error) -> tuple[float, float]:
     return math.hypot(error[0], error[1]), error[2]
 
 
-def _matters(error) -> bool:
+def _matters(error: _Error) -> bool:
     position, heading = _off(error)
     return position >= POSITION_TOLERANCE or abs(heading) >= HEADING_TOLERANCE
 
@@ -144,11 +164,12 @@ def check_ramps(ctx: Context, profile: Profile, out: list[Diagnostic]) -> None:
     if not blocks or not any(r is not None and r.block.moves for r in reads):
         return  # nothing moves
     rates = rates_of(profile)
-    timed = [r is not None or duration != 0 for r, duration in zip(reads, durations)]
+    timed = [r is not None or duration != 0
+             for r, duration in zip(reads, durations, strict=True)]  # both per block
     succ = successors(ctx)[0]
     exits: dict[int, list[tuple[int, int]]] = {}
-    runs: dict[tuple[int, tuple], BlockRun] = {}
-    alike: dict[tuple, BlockRun] = {}
+    runs: dict[tuple[int, EntryKey], BlockRun] = {}
+    alike: dict[tuple[_MovesKey, EntryKey], BlockRun] = {}
     budget = _RUNS_BASE + _RUNS_PER_BLOCK * sum(r is not None for r in reads)
 
     # A chain: blocks from the one the robot starts to move in (entered at rest) to the one it
@@ -158,10 +179,12 @@ def check_ramps(ctx: Context, profile: Profile, out: list[Diagnostic]) -> None:
     # is really in (`motion.run_block`). It is reported at the block whose run adds the most
     # (`blame`). The states along the control flow: (block, entry, error so far, the chain's
     # first block, blame), at most MAX_ENTRIES per block.
-    seen: list[set[tuple]] = [set() for _ in blocks]
-    found: dict[int, tuple] = {}  # blamed block -> (error, its entry, the chain's first block)
-    start = (REST, (0.0, 0.0, 0.0), -1, (-1, None, 0.0))
-    todo = deque((b, *start) for b, _ in next_timed(blocks, succ, timed, (0,), _EXIT_SEARCH))
+    seen: list[set[tuple[EntryKey, _Error, int, _Blame]]] = [set() for _ in blocks]
+    # blamed block -> (error, its entry, the chain's first block)
+    found: dict[int, tuple[_Error, EntryKey, int]] = {}
+    start = (REST, (0.0, 0.0, 0.0), -1, _NO_BLAME)
+    todo: deque[_State] = deque(
+        (b, *start) for b, _ in next_timed(blocks, succ, timed, (0,), _EXIT_SEARCH))
     while todo:
         b, entry, error, first, blame = todo.popleft()
         key = (entry.key(), error, first, blame)
@@ -187,7 +210,8 @@ def check_ramps(ctx: Context, profile: Profile, out: list[Diagnostic]) -> None:
                 runs[(b, entry.key())] = run
             leaving = run.exit
             # rounded, so that a loop of blocks moving on at one speed comes back to a state
-            total = tuple(round(a + e, 9) for a, e in zip(error, run.error))
+            total = (round(error[0] + run.error[0], 9), round(error[1] + run.error[1], 9),
+                     round(error[2] + run.error[2], 9))
             size = round(_size(run.error), 9)
             if size > blame[2]:
                 blame = (b, entry.key(), size)
@@ -203,10 +227,12 @@ def check_ramps(ctx: Context, profile: Profile, out: list[Diagnostic]) -> None:
             todo.extend((c, leaving, total, first, blame) for c, _ in exits[b])
 
     for b, (error, entry_key, first) in sorted(found.items()):
-        out.append(_report(ctx, reads[b], runs[(b, entry_key)], error, first, rates, profile))
+        moves = reads[b]
+        assert moves is not None  # a block is blamed for its run
+        out.append(_report(ctx, moves, runs[(b, entry_key)], error, first, rates, profile))
 
 
-def _run(entry: Entry, moves: _Moves, rates) -> BlockRun:
+def _run(entry: Entry, moves: _Moves, rates: Velocity) -> BlockRun:
     """`motion.run_block`, or nothing to run: a block entered at rest whose motions are all
     centred, and ramp together too little to come near the tolerance (`centred_bound`), ends
     at rest within a fraction of it (its error is taken as none)."""
@@ -219,7 +245,7 @@ def _run(entry: Entry, moves: _Moves, rates) -> BlockRun:
     return run_block(entry, moves.steps, moves.length, rates, exact=False, ideal=moves.ideal)
 
 
-def _size(error) -> float:
+def _size(error: _Error) -> float:
     position, heading = _off(error)
     return max(position / POSITION_TOLERANCE, abs(heading) / HEADING_TOLERANCE)
 
@@ -231,10 +257,10 @@ def _fmt(v: float) -> str:
     return f"{v:g}"
 
 
-def _how_far(error) -> str:
+def _how_far(error: _Error) -> str:
     """`3.2 cm and 12.2° (0.213 rad)`, leaving out what is within the tolerances."""
     position, heading = _off(error)
-    parts = []
+    parts: list[str] = []
     if position >= POSITION_TOLERANCE:
         parts.append(f"{position * 100:.1f} cm" if position < 1 else f"{position:.2f} m")
     if abs(heading) >= HEADING_TOLERANCE:
@@ -249,22 +275,22 @@ def _profile_note(profile: Profile) -> str:
             f"{_fmt(profile.max_angular_acceleration)} rad/s²")
 
 
-def _needs(motion: Motion, rates) -> tuple[int, int, tuple[int, int, int] | None]:
+def _needs(motion: Motion, rates: Velocity) -> tuple[int, int, tuple[int, int, int] | None]:
     """What centring the motion needs: the wait before its first change and the time after its
     last one (ms), and the first speed too short for the ramps around it (when it starts, how
     long it lasts, how long its ramps need), if any."""
     group_rates = [rates[i] for i in GROUPS[motion.group]]
-    spans = []
+    spans: list[tuple[int, int, int]] = []
     for t, v0, v1 in motion.changes:
         m = centred_ms(limit_ms(v0, v1, group_rates))
         spans.append((t, (m - 1) // 2, (m + 1) // 2))
-    short = next(((a[0], b[0] - a[0], a[2] + b[1]) for a, b in zip(spans, spans[1:])
+    short = next(((a[0], b[0] - a[0], a[2] + b[1]) for a, b in pairwise(spans)
                   if b[0] - a[0] < a[2] + b[1]), None)
     return spans[0][1], spans[-1][2], short
 
 
-def _report(ctx: Context, moves: _Moves, run: BlockRun, error, first: int, rates,
-            profile: Profile) -> Diagnostic:
+def _report(ctx: Context, moves: _Moves, run: BlockRun, error: _Error, first: int,
+            rates: Velocity, profile: Profile) -> Diagnostic:
     """A chain of blocks from `first` leaves the robot away from the script's pose, and this
     block's run adds the most to it: reported at its first motion the governor cannot
     centre."""
@@ -275,7 +301,7 @@ def _report(ctx: Context, moves: _Moves, run: BlockRun, error, first: int, rates
     what = "moves" if motion.group == 0 else "turns"
     lead, tail, short = _needs(motion, rates)
     stop = motion.changes[-1][0]
-    wants = []
+    wants: list[str] = []
     if motion.late_because == "entered":
         wants.append("end the previous block's move at least half a ramp before that block "
                      "ends, or start this block with the velocity it ends with")
@@ -301,7 +327,7 @@ def _report(ctx: Context, moves: _Moves, run: BlockRun, error, first: int, rates
         "the governor ramps each change of speed at the robot profile's acceleration; ramps "
         "centred on the changes keep the distance, but " + why + ": each change is ramped "
         "from where it is, and the robot lags behind the script"]
-    labels = []
+    labels: list[Label] = []
     if first != moves.index:
         labels.append(Label(ctx.block_head(ctx.blocks[first]),
                             "the robot starts moving in this block"))

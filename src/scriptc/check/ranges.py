@@ -1,6 +1,7 @@
 """Pass 4, values inside commands, rule messages and conditions (docs/language.md):
-finite numbers (V003; speeds within the robot's 32-bit floats), colour channels in [0, 1] (V004), `turnas` 0 or 1 (V005), times whole,
-non-negative and within a C++ `int` (V006), rulecodes within uint32 (V007).
+finite numbers (V003; speeds within the robot's 32-bit floats), colour channels in [0, 1]
+(V004), `turnas` 0 or 1 (V005), times whole, non-negative and within a C++ `int` (V006),
+rulecodes within uint32 (V007).
 
 Numbers whose text is not a number at all (`Number.value is None`) were reported where they
 were read (V002) and are skipped here; so are `inf` and `nan` written as such (V003 there).
@@ -11,8 +12,9 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from scriptc.check.context import Context
-from scriptc.diagnostics.model import Diagnostic, Fix, TextEdit
 from scriptc.diagnostics.codes import diagnostic
+from scriptc.diagnostics.model import Diagnostic, Fix, TextEdit
+from scriptc.ir.fields import NUMBER_RE
 from scriptc.ir.nodes import (
     AttAssignment,
     CallEvaluation,
@@ -27,7 +29,6 @@ from scriptc.ir.nodes import (
     Value,
     VarAssignment,
 )
-from scriptc.ir.fields import NUMBER_RE
 from scriptc.numbers import shown, whole_number
 
 # Decided: the robot's software kept `wait_t` and `duration` in a C++ `int` (32 bits).
@@ -107,8 +108,8 @@ def _finite(number: Number, what: str, out: list[Diagnostic],
     if number.is_finite and limit is not None and abs(value) > limit:
         out.append(diagnostic(
             "V003", f"{what} is {shown(number.text)}, too large for the robot", number.span,
-            notes=("the robot's software reads it as a 32-bit float (C++ `stof`), whose "
-                   f"largest value is about {limit:.1e}",),
+            notes=(("the robot's software reads it as a 32-bit float (C++ `stof`), whose "
+                    f"largest value is about {limit:.1e}"),),
             help="write a speed the robot can reach"))
         return False
     if number.is_finite:
@@ -139,11 +140,12 @@ def _whole(number: Number, what: str, low: int, high: int, code: str, fixes: boo
     n = whole_number(number.text) if number.is_integer_text else None
     if n is not None:  # (None for a text of hundreds of digits: V003 below says so)
         if n < low:
-            out.append(diagnostic(code, f"{what} must not be negative, found `{number.text}`", number.span,
-                                  help=f"{what} must be {limit} from {low} to {high}"))
+            out.append(diagnostic(code, f"{what} must not be negative, found `{number.text}`",
+                                  number.span, help=f"{what} must be {limit} from {low} to {high}"))
         elif n > high:
-            out.append(diagnostic(code, f"{what} is `{number.text}`, above the limit of {high}{unit}", number.span,
-                                  notes=_limit_note(code),
+            out.append(diagnostic(code,
+                                  f"{what} is `{number.text}`, above the limit of {high}{unit}",
+                                  number.span, notes=_limit_note(code),
                                   help=f"{what} must be {limit} from {low} to {high}"))
         return
     if not _finite(number, what, out):
@@ -153,8 +155,8 @@ def _whole(number: Number, what: str, low: int, high: int, code: str, fixes: boo
         fix = _replace(number, str(int(value)), fixes)
     out.append(
         diagnostic(code, f"{what} must be {limit}, found `{number.text}`", number.span,
-                   notes=("the thesis JSON stores it as an integer, written without fraction "
-                          "or exponent",),
+                   notes=(("the thesis JSON stores it as an integer, written without fraction "
+                           "or exponent"),),
                    help=f"write it as a whole number, from {low} to {high}",
                    fix=fix)
     )

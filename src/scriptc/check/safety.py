@@ -37,15 +37,16 @@ from __future__ import annotations
 
 import heapq
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 from scriptc.check.context import Context
 from scriptc.check.flow import next_timed, successors
 from scriptc.check.ramps import check_ramps, number, whole_ms
-from scriptc.diagnostics.model import Diagnostic, Label
 from scriptc.diagnostics.codes import diagnostic
+from scriptc.diagnostics.model import Diagnostic, Label
 from scriptc.gcpause import gc_paused
-from scriptc.ir.nodes import InstructionBlock, JumpBlock, LedCommand, Number, block_path
+from scriptc.ir.nodes import InstructionBlock, JumpBlock, LedCommand, MoveCommand, block_path
 from scriptc.robot.profile import Profile
 
 WINDOW_MS = 1000
@@ -81,7 +82,7 @@ def check_safety(ctx: Context) -> list[Diagnostic]:
     return out
 
 
-def _speed(mv, profile: Profile, out: list[Diagnostic]) -> None:
+def _speed(mv: MoveCommand, profile: Profile, out: list[Diagnostic]) -> None:
     v_x, v_y, w = number(mv.v_x), number(mv.v_y), number(mv.v_theta)
     if v_x is None or v_y is None or w is None:
         return  # reported by V002/V003
@@ -92,17 +93,17 @@ def _speed(mv, profile: Profile, out: list[Diagnostic]) -> None:
         out.append(diagnostic(
             "K001", f"this move goes at {_fmt(speed)} m/s, above the robot profile's "
                     f"{_fmt(profile.max_linear_speed)} m/s", span,
-            notes=(f"the run-time governor slows it to {_fmt(profile.max_linear_speed)} m/s: "
-                   f"it goes {_fmt(profile.max_linear_speed / speed * 100)}% as far as "
-                   "written",
+            notes=((f"the run-time governor slows it to {_fmt(profile.max_linear_speed)} m/s: "
+                    f"it goes {_fmt(profile.max_linear_speed / speed * 100)}% as far as "
+                    "written"),
                    f"profile{source}: max-linear-speed = {_fmt(profile.max_linear_speed)}"),
             help="lower the speed and lengthen the duration to keep the distance"))
     if abs(w) > profile.max_angular_speed:
         out.append(diagnostic(
             "K001", f"this move turns at {_fmt(abs(w))} rad/s, above the robot profile's "
                     f"{_fmt(profile.max_angular_speed)} rad/s", mv.v_theta.span,
-            notes=(f"the run-time governor slows it to {_fmt(profile.max_angular_speed)} "
-                   "rad/s: it turns less far than written",
+            notes=((f"the run-time governor slows it to {_fmt(profile.max_angular_speed)} "
+                    "rad/s: it turns less far than written"),
                    f"profile{source}: max-angular-speed = {_fmt(profile.max_angular_speed)}"),
             help="lower the turning speed and lengthen the duration to keep the angle"))
 
@@ -178,14 +179,17 @@ class _Timeline:
     other step uses at least one flash, so the memo of (block, flashes left, lit) is a DAG of
     at most 2k states per block with a flash, evaluated iteratively. A block that every way in
     enters lit loses its onset at 0 first (`_drop_seamless_onsets`): a steadily lit stretch is
-    then crossed like a dark one."""
+    then crossed like a dark one.
+
+    `tracks[i]` is None for a block that takes no time; the searches reach, and the counting
+    reads, only blocks that take time (`timed`), which `_timed` states."""
 
     def __init__(self, ctx: Context, profile: Profile) -> None:
         self.ctx = ctx
         self.blocks = ctx.blocks
         self._succ: tuple[list[tuple[int, ...]], bool] | None = None
         self.tracks = [_track(b, d) if isinstance(b, InstructionBlock) else None
-                       for b, d in zip(self.blocks, ctx.durations)]
+                       for b, d in zip(self.blocks, ctx.durations, strict=True)]
         self.timed = [track is not None for track in self.tracks]
         self.limit = profile.max_led_flash_rate
         self._exits: dict[int, list[tuple[int, int]]] = {}
@@ -198,18 +202,26 @@ class _Timeline:
 
     # -- the graph of blocks that take time ------------------------------------------------
 
-    @property
-    def succ(self) -> list[tuple[int, ...]]:
+    def _flow(self) -> tuple[list[tuple[int, ...]], bool]:
         """`flow.successors`, computed when a second reaches past a block."""
         if self._succ is None:
             self._succ = successors(self.ctx)
-        return self._succ[0]
+        return self._succ
+
+    @property
+    def succ(self) -> list[tuple[int, ...]]:
+        return self._flow()[0]
 
     @property
     def resolved(self) -> bool:
         """Whether every jump target is a label of the script (L003)."""
-        self.succ  # noqa: B018 (computes `_succ`)
-        return self._succ[1]
+        return self._flow()[1]
+
+    def _timed(self, i: int) -> _Track:
+        """The track of block `i`, which takes time (reached by a search, or has a flash)."""
+        track = self.tracks[i]
+        assert track is not None, i
+        return track
 
     def _search(self, starts: tuple[int, ...]) -> list[tuple[int, int]]:
         """The blocks that take time reached from `starts` through blocks that take none,
@@ -242,7 +254,8 @@ class _Timeline:
         dark, lit = self._entered
         return self.resolved and i in lit and i not in dark
 
-    def _walk(self, starts: list[tuple[int, bool, int]], cap: int | None = None):
+    def _walk(self, starts: list[tuple[int, bool, int]], cap: int | None = None,
+              ) -> Iterator[tuple[int, int, bool, tuple[int, bool], int]]:
         """Shortest times from `starts` ((block, entered lit, via) at 0 ms) through blocks
         without a flash, within one second: yields (ms, block, entered lit, previous node,
         via) as blocks are settled; a block with a flash ends its branch. At most `_REACH`
@@ -261,13 +274,14 @@ class _Timeline:
             self.work += 1
             yield t, e, lit, (prev, prev_lit), via
             track = tracks[e]
+            assert track is not None  # exits() reach blocks that take time
             if len(track.times) > lit or track.duration is None:
                 continue  # a flash: a target; or an unknown duration: the timeline stops
             t += track.duration
             if t >= WINDOW_MS:
                 continue
             for f, via in self.exits(e):
-                lit_f = track.ends_lit and tracks[f].starts_lit
+                lit_f = track.ends_lit and self._timed(f).starts_lit
                 if (f, lit_f) not in done:
                     heapq.heappush(heap, (t, f, lit_f, e, lit, via))
 
@@ -275,22 +289,20 @@ class _Timeline:
         """The blocks with a flash reached from the start of block `e` (entered lit or dark)
         through blocks without one, within a second: (ms, block, entered lit), nearest first.
         Memoised per entry: blocks that jump into one waiting loop share its search."""
-        if len(self.tracks[e].times) > lit:
+        if len(self._timed(e).times) > lit:
             return [(0, e, lit)]
         found = self._reached.get((e, lit))
         if found is None:
-            tracks = self.tracks
             found = self._reached[(e, lit)] = [
                 (t, f, lit_f) for t, f, lit_f, _, _ in self._walk([(e, lit, -1)])
-                if len(tracks[f].times) > lit_f]
+                if len(self._timed(f).times) > lit_f]
         return found
 
     def _entries(self, c: int) -> list[tuple[int, bool, int]]:
         """The blocks that take time control may go to when block `c` ends: (block, entered
         lit, via)."""
-        tracks = self.tracks
-        ends = tracks[c].ends_lit
-        return [(e, ends and tracks[e].starts_lit, via) for e, via in self.exits(c)]
+        ends = self._timed(c).ends_lit
+        return [(e, ends and self._timed(e).starts_lit, via) for e, via in self.exits(c)]
 
     def targets(self, c: int) -> list[tuple[int, int, bool]]:
         """The blocks with a flash that may come next after block `c` (through blocks
@@ -325,7 +337,6 @@ class _Timeline:
         found = memo.get(root)
         if found is not None:
             return found
-        tracks = self.tracks
         stack = [root]
         while stack:
             key = stack[-1]
@@ -333,7 +344,7 @@ class _Timeline:
                 stack.pop()
                 continue
             c, k, lit = key
-            track = tracks[c]
+            track = self._timed(c)
             m = len(track.times) - lit
             best = WINDOW_MS
             if k <= m:
@@ -357,7 +368,7 @@ class _Timeline:
     def span(self, b: int, j: int, k: int) -> int:
         """The shortest time from the `j`-th flash of block `b` to the `k`-th counting it, over
         every path (`WINDOW_MS` or more: not within a second)."""
-        track = self.tracks[b]
+        track = self._timed(b)
         x = track.times[j]
         after = len(track.times) - j
         if after >= k:
@@ -371,7 +382,7 @@ class _Timeline:
     def path(self, b: int, j: int, k: int) -> tuple[list[_Run], list[tuple[int, LedCommand]]]:
         """The fastest path from the `j`-th flash of block `b` to the `k`-th flash: its runs
         of blocks and its flashes (index of the run, command)."""
-        track = self.tracks[b]
+        track = self._timed(b)
         x = track.times[j]
         runs = [_Run(b, -x, -1)]
         flashes = [(0, led) for led in track.leds[j : j + k]]
@@ -383,12 +394,12 @@ class _Timeline:
             # the search that found it again, keeping the way (it settles in the same order)
             entry = next(entry for entry in self._entries(c)
                          if (t, e, lit) in self._reach(entry[0], entry[1]))
-            settled = {}
+            settled: dict[tuple[int, bool], tuple[int, tuple[int, bool], int]] = {}
             for when, f, lit_f, prev, via in self._walk([entry], _REACH):
                 settled[(f, lit_f)] = (when, prev, via)
                 if (f, lit_f) == (e, lit):
                     break
-            chain = []
+            chain: list[_Run] = []
             node = (e, lit)
             if node not in settled:  # past the search's bound: the blocks between are left out
                 settled[node] = (t, (-1, False), entry[2])
@@ -397,7 +408,7 @@ class _Timeline:
                 chain.append(_Run(node[0], end + when, via))
                 node = prev
             runs.extend(reversed(chain))
-            target = self.tracks[e]
+            target = self._timed(e)
             flashes += [(len(runs) - 1, led) for led in target.leds[lit : lit + left]]
             c = e
             end = None if target.duration is None else runs[-1].start + target.duration
@@ -440,17 +451,22 @@ class _Timeline:
             if track is not None and track.starts_lit and self.entered_lit_only(i):
                 del track.times[0], track.leds[0]
 
-    def _second(self, runs: list[_Run]):
+    def _second(self, runs: list[_Run]) -> Iterator[int]:
         """The blocks of the reported second: its path, then on along first exits."""
         yield from (run.block for run in runs)
         c = runs[-1].block
-        track = self.tracks[c]
+        track = self._timed(c)
         end = None if track.duration is None else runs[-1].start + track.duration
         while end is not None and end < WINDOW_MS and self.exits(c):
             c = self.exits(c)[0][0]
             yield c
-            duration = self.tracks[c].duration
+            duration = self._timed(c).duration
             end = None if duration is None else end + duration
+
+    def _jump(self, i: int) -> JumpBlock:
+        jump = self.blocks[i]
+        assert isinstance(jump, JumpBlock)  # a run's `via` is the last jump passed
+        return jump
 
     def _name(self, i: int) -> str | None:
         if not self.ctx.is_script_syntax:
@@ -465,7 +481,7 @@ class _Timeline:
         back = [run for run in jumps if run.block <= run.via]
         if back or jumps:
             run = (back or jumps)[0]
-            jump = self.blocks[run.via]
+            jump = self._jump(run.via)
             if repeats:
                 return Label(jump.span, "this jump repeats the block")
             may = "" if jump.condition.is_constant_true else "may "
@@ -492,14 +508,16 @@ class _Timeline:
                 where = " as the block repeats"
             else:
                 names = [self._name(i) for i in blocks]
-                where = (" across blocks " + _and(names) if None not in names and len(names) <= 4
+                named = [name for name in names if name is not None]
+                where = (" across blocks " + _and(named)
+                         if len(named) == len(names) and len(names) <= 4
                          else f" across {len(blocks)} blocks")
-        notes = ["flashing faster than 3 times a second can trigger seizures in "
-                 "photosensitive children (WCAG 2.3.1)"]
+        notes = [("flashing faster than 3 times a second can trigger seizures in "
+                  "photosensitive children (WCAG 2.3.1)")]
         if count > 1 and span > 0:
             notes.append(f"these {count} flashes come within {span} ms: about "
                          f"{_fmt(round((count - 1) * WINDOW_MS / span, 1))} a second")
-        if any(run.via >= 0 and not self.blocks[run.via].condition.is_constant_true
+        if any(run.via >= 0 and not self._jump(run.via).condition.is_constant_true
                for run in runs):
             notes.append("a jump may go either way: the check follows every path the jumps "
                          "allow")

@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import math
 from bisect import bisect_right
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from typing import NamedTuple
 
 from scriptc.robot.profile import Profile
@@ -38,6 +38,10 @@ Velocity = tuple[float, float, float]
 ZERO: Velocity = (0.0, 0.0, 0.0)
 GROUPS = ((0, 1), (2,))  # axes that ramp together: the plane, the turn (each a slice)
 GROUP_NAMES = ("plane", "turn")
+# Per axis (v_x, v_y, v_theta): ms of a ramp's start or length.
+AxisTimes = tuple[int, int, int]
+# A change of one group's velocity: (ms, the group's values before, after).
+Change = tuple[int, tuple[float, ...], tuple[float, ...]]
 
 
 class Pose(NamedTuple):
@@ -45,7 +49,7 @@ class Pose(NamedTuple):
     y: float
     theta: float
 
-    def as_dict(self) -> dict:
+    def as_dict(self) -> dict[str, float]:
         return {"x": self.x, "y": self.y, "theta": self.theta}
 
 
@@ -77,7 +81,7 @@ def limit_ms(start: Iterable[float], target: Iterable[float],
     """Whole milliseconds a change of a group of axes takes at the limit: the largest need of
     its axes (0: no change; 1 on an axis without a limit)."""
     n = 0
-    for v0, v1, rate in zip(start, target, rates):
+    for v0, v1, rate in zip(start, target, rates, strict=True):  # the axes of one group
         if v0 == v1:
             continue
         if not 0.0 < rate < math.inf:
@@ -107,13 +111,14 @@ class Ramp:
     `target[i]` from `t0s[i] + steps[i]` on. `end` is the millisecond every axis is on its
     target; `t0` the earliest start."""
 
-    __slots__ = ("t0s", "start", "target", "step", "steps", "ends", "t0", "end")
+    __slots__ = ("end", "ends", "start", "step", "steps", "t0", "t0s", "target")
 
-    def __init__(self, t0s, start: Velocity, target: Velocity, steps) -> None:
-        self.t0s = t0s = tuple(t0s)
-        self.start = start = tuple(start)
-        self.target = target = tuple(target)
-        self.steps = steps = tuple(steps)
+    def __init__(self, t0s: Sequence[int], start: Sequence[float], target: Sequence[float],
+                 steps: Sequence[int]) -> None:
+        self.t0s: AxisTimes = (t0s[0], t0s[1], t0s[2])
+        self.start: Velocity = (start[0], start[1], start[2])
+        self.target: Velocity = (target[0], target[1], target[2])
+        self.steps: AxisTimes = (steps[0], steps[1], steps[2])
         self.step = ((target[0] - start[0]) / steps[0] if steps[0] else 0.0,
                      (target[1] - start[1]) / steps[1] if steps[1] else 0.0,
                      (target[2] - start[2]) / steps[2] if steps[2] else 0.0)
@@ -125,11 +130,12 @@ class Ramp:
 
     def velocity(self, t_ms: int) -> Velocity:
         """The velocity during the millisecond that ends at `t_ms` (reached at its end)."""
-        out = []
-        for t0, v0, v1, s, n in zip(self.t0s, self.start, self.target, self.step, self.steps):
+        out: list[float] = []
+        for t0, v0, v1, s, n in zip(self.t0s, self.start, self.target, self.step, self.steps,
+                                    strict=True):
             k = t_ms - t0
             out.append(v0 if k <= 0 or not n else v1 if k >= n else v0 + k * s)
-        return tuple(out)  # type: ignore[return-value]
+        return (out[0], out[1], out[2])
 
     def at(self, k: int) -> Velocity:
         """The velocity during the k-th millisecond after `t0`."""
@@ -143,7 +149,7 @@ class Ramp:
         """The milliseconds in (a, b) where some axis starts or ends its ramp, then b: within
         each interval between them every axis is constant or linear."""
         out = {b}
-        for t0, t1, n in zip(self.t0s, self.ends, self.steps):
+        for t0, t1, n in zip(self.t0s, self.ends, self.steps, strict=True):
             if n:
                 if a < t0 < b:
                     out.add(t0)
@@ -154,8 +160,9 @@ class Ramp:
     def sums(self, a: int, b: int) -> Velocity:
         """Per axis, the sum of the velocities of the milliseconds (a, b] (times 1 ms: the
         distance covered, in the body frame, when the heading does not change)."""
-        out = []
-        for t0, v0, v1, s, n in zip(self.t0s, self.start, self.target, self.step, self.steps):
+        out: list[float] = []
+        for t0, v0, v1, s, n in zip(self.t0s, self.start, self.target, self.step, self.steps,
+                                    strict=True):
             total = 0.0
             lo, hi = a + 1, b  # the milliseconds, by the time they end
             if not n:
@@ -172,7 +179,7 @@ class Ramp:
             if hi >= after:
                 total += (hi - after + 1) * v1
             out.append(total)
-        return tuple(out)  # type: ignore[return-value]
+        return (out[0], out[1], out[2])
 
 
 # -- the plan of a block's move track -----------------------------------------------------------
@@ -218,7 +225,7 @@ class Motion(NamedTuple):
     block starts while it moves)."""
 
     group: int
-    changes: tuple[tuple[int, tuple[float, ...], tuple[float, ...]], ...]
+    changes: tuple[Change, ...]
     centred: bool
     late_because: str | None
 
@@ -226,9 +233,9 @@ class Motion(NamedTuple):
 class _GroupState:
     """One group's velocity during planning: a ramp from `v0` at `t0` to `v1` over `n` ms."""
 
-    __slots__ = ("t0", "v0", "v1", "n")
+    __slots__ = ("n", "t0", "v0", "v1")
 
-    def __init__(self, t0, v0, v1, n) -> None:
+    def __init__(self, t0: int, v0: tuple[float, ...], v1: tuple[float, ...], n: int) -> None:
         self.t0, self.v0, self.v1, self.n = t0, v0, v1, n
 
     def at(self, t: int) -> tuple[float, ...]:
@@ -237,17 +244,17 @@ class _GroupState:
             return self.v1
         if k <= 0:
             return self.v0
-        return tuple(a + k * (b - a) / self.n for a, b in zip(self.v0, self.v1))
+        return tuple(a + k * (b - a) / self.n for a, b in zip(self.v0, self.v1, strict=True))
 
     def move(self, t: int, v1: tuple[float, ...], n: int) -> None:
         self.v0, self.v1, self.t0, self.n = self.at(t), v1, t, n
 
 
-def _at_rest(values) -> bool:
+def _at_rest(values: Iterable[float]) -> bool:
     return not any(values)
 
 
-def _why_late(t0: int, length: int, motion, spans: list[int],
+def _why_late(t0: int, length: int, motion: tuple[Change, ...], spans: list[int],
               state: _GroupState) -> str | None:
     """Why the governor cannot centre a motion of a block issued at `t0` that lasts `length`
     ms, whose centred ramps last `spans`, with the group in `state` before it (None: it can):
@@ -256,8 +263,8 @@ def _why_late(t0: int, length: int, motion, spans: list[int],
     overlap; "end", its last ramp would end after the block."""
     if not _at_rest(motion[0][1]):
         return "entered"
-    end = None
-    for (t, _, _), m in zip(motion, spans):
+    end: int | None = None
+    for (t, _, _), m in zip(motion, spans, strict=True):  # a span per change
         at = t0 + t - (m - 1) // 2
         if end is None:
             if at < t0 or at < state.t0 + state.n or not _at_rest(state.v1):
@@ -265,7 +272,7 @@ def _why_late(t0: int, length: int, motion, spans: list[int],
         elif at < end:
             return "overlap"
         end = at + m
-    return "end" if end > t0 + length else None
+    return "end" if end is not None and end > t0 + length else None
 
 
 class Shaper:
@@ -301,10 +308,10 @@ class Shaper:
                 t0s[i], start[i], target[i], steps[i] = (old.t0s[i], old.start[i],
                                                          old.target[i], old.steps[i])
         for g, (values, n) in groups.items():
-            for i, v in zip(GROUPS[g], values):
+            for i, v in zip(GROUPS[g], values, strict=True):  # the group's axes
                 t0s[i], start[i], target[i] = t, now[i], v
                 steps[i] = n if n > 1 and now[i] != v else 0
-        self.target = tuple(target)  # type: ignore[assignment]
+        self.target = (target[0], target[1], target[2])
         ramp = Ramp(t0s, start, target, steps)
         self.ramp = ramp if any(steps) else None
 
@@ -356,8 +363,8 @@ class Shaper:
                     steps: list[tuple[int, Velocity]], before: Velocity) -> list[Motion]:
         lo, hi = axes[0], axes[-1] + 1
         rates = self.rates[lo:hi]
-        changes = []
-        value = before[lo:hi]
+        changes: list[Change] = []
+        value: tuple[float, ...] = before[lo:hi]
         for t, v in steps:
             new = v[lo:hi]
             if new != value:
@@ -382,7 +389,7 @@ class Shaper:
             k += 1
             spans = [centred_ms(limit_ms(v0, v1, rates)) for _, v0, v1 in motion]
             why = _why_late(t0, length, motion, spans, state)
-            for (t, v0, v1), m in zip(motion, spans):
+            for (t, v0, v1), m in zip(motion, spans, strict=True):  # a span per change
                 if why is None:
                     at = t0 + t - (m - 1) // 2
                     self.planned.append(Planned(at, g, v1, m, t0 + t))
@@ -565,13 +572,15 @@ class Entry(NamedTuple):
     target: Velocity
     command: Velocity
 
-    def key(self) -> tuple:
+    def key(self) -> EntryKey:
         r = self.ramp
         ramp = None if r is None else (r.t0s, r.start, r.target, r.steps)
         return (ramp, self.target, self.command)
 
 
 REST = Entry(None, ZERO, ZERO)
+# `Entry.key`: the entry as plain values (the ramp's start times, start, target and lengths).
+EntryKey = tuple[tuple[AxisTimes, Velocity, Velocity, AxisTimes] | None, Velocity, Velocity]
 
 
 class BlockRun(NamedTuple):
@@ -622,7 +631,7 @@ def run_block(entry: Entry, steps: list[tuple[int, Velocity]], length: int,
 
     last = entry.command
     stop = ZERO
-    for t, v in zip(shaper.expected_times, shaper.expected):
+    for t, v in zip(shaper.expected_times, shaper.expected, strict=True):  # made together
         if t >= length:
             stop = v  # at the block's end: the next block's first command, or the stop
             break
@@ -682,7 +691,7 @@ def centred_bound(steps: list[tuple[int, Velocity]], length: int,
     before = [(0.0, 0.0), (0.0,)]
     for p in shaper.planned:  # in order of `at`; per group, in order of their changes
         old, before[p.group] = before[p.group], p.values
-        change = math.hypot(*(b - a for a, b in zip(old, p.values)))
+        change = math.hypot(*(b - a for a, b in zip(old, p.values, strict=True)))
         spread = (p.steps / 1000.0) ** 2 / 24.0
         if p.group == 0:
             bound += change * spread * fastest(p.at, p.at + p.steps, 1)
