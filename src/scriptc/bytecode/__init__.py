@@ -11,19 +11,19 @@ This package depends on the format only: it does not import the IR. Codegen
 (`scriptc.emit.codegen`) is the bridge from the IR.
 """
 
+from scriptc.bytecode.container import FORMAT_VERSION, MAGIC
 from scriptc.bytecode.decode import decode
 from scriptc.bytecode.disasm import disassemble
 from scriptc.bytecode.encode import encode
 from scriptc.bytecode.errors import BytecodeError, InvalidError, MalformedError
-from scriptc.bytecode.container import FORMAT_VERSION, MAGIC
 from scriptc.bytecode.program import Program
 from scriptc.bytecode.verify import Verified, load, verify
 
 __all__ = [
-    "BytecodeError",
     "FORMAT_VERSION",
-    "InvalidError",
     "MAGIC",
+    "BytecodeError",
+    "InvalidError",
     "MalformedError",
     "Program",
     "Verified",

@@ -12,7 +12,7 @@ from typing import NamedTuple
 from scriptc.bytecode.errors import InvalidError
 from scriptc.bytecode.opcodes import BY_CODE, BY_NAME, Opcode
 
-__all__ = ["Instruction", "read_instruction", "instructions", "Assembler", "JumpTarget"]
+__all__ = ["Assembler", "Instruction", "JumpTarget", "instructions", "read_instruction"]
 
 
 class Instruction(NamedTuple):

@@ -13,13 +13,27 @@ import struct
 import zlib
 from itertools import accumulate
 from operator import add
+from typing import Any
 
 from scriptc.bytecode import container as L
 from scriptc.bytecode.errors import MalformedError
-from scriptc.bytecode.program import Action, Block, CodeSpan, Goal, Message, Num, Program
+from scriptc.bytecode.program import (
+    Action,
+    Block,
+    CodeSpan,
+    Constant,
+    Goal,
+    Message,
+    Num,
+    Program,
+)
 from scriptc.source import Span
 
 __all__ = ["decode"]
+
+# A record as `struct` unpacks it: the values of its fields (ints and floats, as the record's
+# format says; struct's results are untyped).
+Row = tuple[Any, ...]
 
 _U32 = struct.Struct("<I")
 _U16 = struct.Struct("<H")
@@ -29,7 +43,7 @@ _F64 = struct.Struct("<d")
 class _Reader:
     """Reads one section; every read checks the bytes left in it."""
 
-    __slots__ = ("data", "pos", "end", "name")
+    __slots__ = ("data", "end", "name", "pos")
 
     def __init__(self, data: bytes, start: int, end: int, name: str) -> None:
         self.data, self.pos, self.end, self.name = data, start, end, name
@@ -47,7 +61,8 @@ class _Reader:
     def u32(self, what: str) -> int:
         self.need(4, what)
         self.pos += 4
-        return _U32.unpack_from(self.data, self.pos - 4)[0]
+        value: int = _U32.unpack_from(self.data, self.pos - 4)[0]
+        return value
 
     def count(self, what: str, record_size: int) -> int:
         """A u32 count of records of `record_size` bytes that must fit in what is left."""
@@ -58,7 +73,7 @@ class _Reader:
                                  f"its {self.end - self.pos} remaining bytes can hold", at)
         return n
 
-    def records(self, record: L.Record, n: int, what: str) -> list[tuple]:
+    def records(self, record: L.Record, n: int, what: str) -> list[Row]:
         size = record.size * n
         self.need(size, what)
         out = list(record.struct.iter_unpack(self.data[self.pos:self.pos + size]))
@@ -150,9 +165,9 @@ def _sections(data: bytes) -> dict[int, tuple[int, int]]:
     return out
 
 
-def _constants(r: _Reader) -> tuple:
+def _constants(r: _Reader) -> tuple[Constant, ...]:
     n = r.count("constants", 5)  # the smallest constant: tag and an empty text
-    out: list = []
+    out: list[Constant] = []
     append = out.append
     for i in range(n):
         at = r.pos
@@ -175,7 +190,7 @@ def _opt(index: int) -> int | None:
     return None if index == L.NONE else index
 
 
-def _script(r: _Reader):
+def _script(r: _Reader) -> tuple[int, int | None, tuple[Message, ...], tuple[Message, ...]]:
     name, source, n_alfa, n_omega = r.records(L.SCRIPT_HEAD, 1, "the script head")[0]
     if (n_alfa + n_omega) * L.MESSAGE.size != r.end - r.pos:
         raise MalformedError(f"the script section announces {n_alfa} alfa and {n_omega} "
@@ -188,7 +203,7 @@ def _script(r: _Reader):
     return name, _opt(source), tuple(messages[:n_alfa]), tuple(messages[n_alfa:])
 
 
-def _blocks(r: _Reader):
+def _blocks(r: _Reader) -> tuple[tuple[Goal, ...], tuple[Action, ...], tuple[Block, ...]]:
     n_goals, n_actions, n_blocks = r.records(L.BLOCK_COUNTS, 1, "the block counts")[0]
     size = n_goals * L.GOAL.size + n_actions * L.ACTION.size + n_blocks * L.BLOCK.size
     if size != r.end - r.pos:
@@ -204,7 +219,7 @@ def _blocks(r: _Reader):
     return goals, actions, blocks
 
 
-def _spans(r: _Reader):
+def _spans(r: _Reader) -> tuple[tuple[int, ...], tuple[CodeSpan, ...]]:
     head_at = r.pos
     n_lines, n_spans, *widths = r.records(L.SPANS_HEAD, 1, "the spans head")[0]
     for width in widths:

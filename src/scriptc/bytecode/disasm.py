@@ -62,7 +62,9 @@ def render_operands(program: Program, op: Opcode, operands: tuple[int, ...]) -> 
     """The operands of one instruction as the listing shows them."""
     if not op.operands:
         return ""
-    rendered = {o.name: _operand(program, o.kind.name, v) for o, v in zip(op.operands, operands)}
+    # the operands were unpacked by the opcode's own struct: one value per operand
+    rendered = {o.name: _operand(program, o.kind.name, v)
+                for o, v in zip(op.operands, operands, strict=True)}
     if op.listing:
         return op.listing.format(**rendered)
     return " ".join(rendered.values())

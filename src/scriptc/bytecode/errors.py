@@ -13,7 +13,7 @@ A *trap* (the script's fault at run time) and a *crash* (a bug of ours) are the 
 
 from __future__ import annotations
 
-__all__ = ["BytecodeError", "MalformedError", "InvalidError"]
+__all__ = ["BytecodeError", "InvalidError", "MalformedError"]
 
 
 class BytecodeError(Exception):

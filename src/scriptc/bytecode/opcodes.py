@@ -20,16 +20,16 @@ from dataclasses import dataclass, field
 from scriptc.language import OPERATORS, SCOPES
 
 __all__ = [
-    "OperandKind",
-    "Operand",
-    "Opcode",
-    "KINDS",
-    "OPCODES",
+    "BLOCK_KINDS",
     "BY_CODE",
     "BY_NAME",
+    "KINDS",
     "MAX_STACK",
-    "BLOCK_KINDS",
+    "OPCODES",
     "SEARCH_NONE",
+    "Opcode",
+    "Operand",
+    "OperandKind",
 ]
 
 

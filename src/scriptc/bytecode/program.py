@@ -9,12 +9,12 @@ from __future__ import annotations
 
 import bisect
 from dataclasses import dataclass, field
-from typing import NamedTuple, Union
+from typing import NamedTuple
 
 from scriptc.bytecode.opcodes import BLOCK_KINDS
 from scriptc.source import Span
 
-__all__ = ["Num", "Constant", "Message", "Goal", "Action", "Block", "CodeSpan", "Program"]
+__all__ = ["Action", "Block", "CodeSpan", "Constant", "Goal", "Message", "Num", "Program"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -27,7 +27,7 @@ class Num:
 
 
 # A constant is a text (str) or a number (Num).
-Constant = Union[str, Num]
+Constant = str | Num
 
 
 @dataclass(frozen=True, slots=True)
@@ -76,6 +76,18 @@ class CodeSpan(NamedTuple):
     end: int
 
 
+class _Lookups:
+    """What a `Program` derives from its tables, each built on first use (None until then)."""
+
+    __slots__ = ("addresses", "index", "span_codes", "starts")
+
+    def __init__(self) -> None:
+        self.addresses: list[tuple[int, int, int]] | None = None  # `Program.addresses`
+        self.index: dict[tuple[int, int, int], int] | None = None  # address -> block index
+        self.starts: list[int] | None = None  # each block's code offset
+        self.span_codes: list[int] | None = None  # each span's code offset
+
+
 @dataclass(frozen=True, slots=True)
 class Program:
     name: int  # text constant: the activity name
@@ -93,8 +105,8 @@ class Program:
     spans: tuple[CodeSpan, ...] = ()
     # Lookups derived from the tables, built on first use (not an init field: `replace`
     # gives the new program a fresh one).
-    _cache: dict = field(default_factory=dict, init=False, compare=False, repr=False,
-                         hash=False)
+    _cache: _Lookups = field(default_factory=_Lookups, init=False, compare=False, repr=False,
+                             hash=False)
 
     # -- reading the tables (on a verified program) -------------------------------------------
 
@@ -111,7 +123,7 @@ class Program:
 
     def addresses(self) -> list[tuple[int, int, int]]:
         """The (goal, action, block) address of each block record, in order."""
-        cached = self._cache.get("addresses")
+        cached = self._cache.addresses
         if cached is not None:
             return cached
         out: list[tuple[int, int, int]] = []
@@ -121,15 +133,15 @@ class Program:
                 n = self.actions[action].blocks if action < len(self.actions) else 0
                 out.extend((g, a, b) for b in range(n))
                 action += 1
-        self._cache["addresses"] = out
+        self._cache.addresses = out
         return out
 
     def block_index(self, goal: int, action: int, block: int) -> int | None:
         """The index of the block at an address (for a switch "at goal/action/block")."""
-        index = self._cache.get("index")
+        index = self._cache.index
         if index is None:
             index = {address: i for i, address in enumerate(self.addresses())}
-            self._cache["index"] = index
+            self._cache.index = index
         return index.get((goal, action, block))
 
     def block_path(self, index: int) -> str:
@@ -145,18 +157,18 @@ class Program:
 
     def block_at(self, offset: int) -> int:
         """The index of the block whose code holds `offset`."""
-        starts = self._cache.get("starts")
+        starts = self._cache.starts
         if starts is None:
             starts = [b.code for b in self.blocks]
-            self._cache["starts"] = starts
+            self._cache.starts = starts
         return bisect.bisect_right(starts, offset) - 1
 
     def span_at(self, offset: int) -> Span | None:
         """The source span of the instruction at code offset `offset` (None if unknown)."""
-        codes = self._cache.get("span_codes")
+        codes = self._cache.span_codes
         if codes is None:
             codes = [s.code for s in self.spans]
-            self._cache["span_codes"] = codes
+            self._cache.span_codes = codes
         i = bisect.bisect_right(codes, offset) - 1
         if i < 0:
             return None

@@ -25,6 +25,8 @@ The checks are linear in the size of the program.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+from typing import Any
 
 from scriptc.bytecode.code import Instruction
 from scriptc.bytecode.decode import decode
@@ -38,12 +40,13 @@ from scriptc.bytecode.opcodes import (
     SEARCH_CANDIDATE,
     SEARCH_NONE,
     SEARCH_STARTED,
+    Opcode,
 )
 from scriptc.bytecode.program import Num, Program
 from scriptc.gcpause import gc_paused
 from scriptc.language import MUTEXES, RULE_ACTIONS
 
-__all__ = ["Verified", "verify", "load"]
+__all__ = ["Verified", "load", "verify"]
 
 _TEXT, _NUMBER = 1, 2
 _ACTIONS = "".join(RULE_ACTIONS)
@@ -71,7 +74,7 @@ class Verified:
     instructions of each block as the verifier decoded them, in code order: what a runtime
     takes, so that it never decodes the code again. Only `verify` makes one."""
 
-    __slots__ = ("program", "instructions")
+    __slots__ = ("instructions", "program")
 
     def __init__(self, program: Program, instructions: list[list[Instruction]],
                  key: object = None) -> None:
@@ -135,7 +138,7 @@ def _text(kinds: bytearray, index: int | None, what: str, optional: bool = False
         raise InvalidError(f"{what}: constant {index} is a number, not a text")
 
 
-def _span(span, what: str) -> None:
+def _span(span: tuple[int, int], what: str) -> None:
     if span[0] > span[1]:
         raise InvalidError(f"{what}: its source span ends ({span[1]}) before it starts "
                            f"({span[0]})")
@@ -227,12 +230,16 @@ _CHECK_OF_KIND = {"const": _C_CONST, "num": _C_NUM, "text": _C_TEXT, "name": _C_
                   "block": _C_BLOCK, "jump": _C_JUMP, "bit": _C_BIT, "scope": _C_LETTER,
                   "cmp": _C_LETTER}
 # Per opcode byte: (opcode, size, unpack_from, checks, block kinds); checks are
-# (operand position, check, letters allowed, operand kind name).
-_DECODE: list = [None] * 256
+# (operand position, check, letters allowed, operand kind name). `unpack_from` is struct's,
+# whose values are untyped (the operands: integers).
+_Check = tuple[int, int, frozenset[int], str]
+_Decoder = tuple[Opcode, int, Callable[[bytes, int], tuple[Any, ...]], tuple[_Check, ...], str]
+_DECODE: list[_Decoder | None] = [None] * 256
 for _op in BY_CODE.values():
     _DECODE[_op.code] = (
         _op, _op.size, _op.struct.unpack_from,
-        tuple((i, _CHECK_OF_KIND[o.kind.name], _LETTERS.get(o.kind.name), o.kind.name)
+        tuple((i, _CHECK_OF_KIND[o.kind.name], _LETTERS.get(o.kind.name, frozenset()),
+               o.kind.name)
               for i, o in enumerate(_op.operands) if o.kind.name in _CHECK_OF_KIND),
         _op.blocks,
     )
@@ -338,7 +345,7 @@ _SHAPES = {
 }
 
 
-def _shape(program: Program, index: int, kind: str, listing: list) -> None:
+def _shape(program: Program, index: int, kind: str, listing: list[Instruction]) -> None:
     body, tail = _SHAPES[kind]
     n = len(tail)
     if len(listing) < n or tuple(ins[1] for ins in listing[-n:]) != tail:
@@ -364,8 +371,13 @@ _SEARCH_FAULTS = {
 }
 
 
-# Per opcode: what the flow analysis needs (see _flow).
-_FLOW: dict[object, tuple] = {}
+# Per opcode: what the flow analysis needs (see _flow): pops, the position of the operand
+# that counts them (-1: none), pushes, search_in, search_out, empty_stack, terminator.
+_FlowFacts = tuple[tuple[str, ...], int, tuple[str, ...], tuple[str, ...] | None, str | None,
+                   bool, bool]
+_FLOW: dict[Opcode, _FlowFacts] = {}
+# A state of the flow analysis: (stack types, search FIND offset or -1, candidate in THIS).
+_FlowState = tuple[tuple[str, ...], int, bool]
 for _op in BY_CODE.values():
     _count = _op.pop_count_operand
     _FLOW[_op] = (
@@ -379,7 +391,7 @@ for _op in BY_CODE.values():
     )
 
 
-def _flow(program: Program, index: int, listing: list) -> None:
+def _flow(program: Program, index: int, listing: list[Instruction]) -> None:
     """Abstract interpretation of a jump block's condition: at each instruction, the types
     on the stack and the running search (the offset of its FIND, -1 for none, and whether a
     candidate is in THIS). Paths that meet must agree, except that NEXT_CANDIDATE forgets
@@ -389,13 +401,13 @@ def _flow(program: Program, index: int, listing: list) -> None:
         raise _fault(program, index, "a jump block must start with COND", first_offset)
     at = {ins[0]: ins for ins in listing}
     # A state: (stack types, search FIND offset or -1, candidate in THIS).
-    empty: tuple[tuple[str, ...], int, bool] = ((), -1, False)
-    states: dict[int, tuple[tuple[str, ...], int, bool]] = {first_offset: empty}
+    empty: _FlowState = ((), -1, False)
+    states: dict[int, _FlowState] = {first_offset: empty}
     work: list[int] = [first_offset]
     find_size = _FIND.size
     block_end = listing[-1][3]
 
-    def enter(target: int, state, source_offset: int, source_name: str) -> None:
+    def enter(target: int, state: _FlowState, source_offset: int, source_name: str) -> None:
         ins = at.get(target)
         if ins is None:
             raise _fault(program, index, f"{source_name}: code offset {target} is not the "
@@ -498,6 +510,6 @@ def _types(types: tuple[str, ...]) -> str:
     return "[" + " ".join(types) + "]"
 
 
-def _show(state) -> str:
+def _show(state: _FlowState) -> str:
     stack, search, candidate = state
     return f"stack {_types(stack)}, search {_search_name(search, candidate)}"
