@@ -39,12 +39,14 @@ from scriptc.bytecode.program import (
     Action,
     Block,
     CodeSpan,
+    Constant,
     Goal,
     Message,
     Num,
     Program,
 )
 from scriptc.emit.condition import condition_text
+from scriptc.ir import nodes as ir
 from scriptc.ir.nodes import (
     AliasRef,
     AttAssignment,
@@ -105,11 +107,11 @@ class _Codegen(ConditionVisitor):
     def __init__(self, script: Script, source: SourceFile | None) -> None:
         self.script = script
         self.source = source
-        self.constants: list = []
+        self.constants: list[Constant] = []
         self.pool: dict[tuple[int, str], int] = {}
         self.asm = Assembler()
         self.labels: dict[str, int] = {}
-        self.commands: dict[tuple, bytes] = {}
+        self.commands: dict[tuple[str, ...], bytes] = {}  # a command's texts -> its code
 
     # -- constants --------------------------------------------------------------------------
 
@@ -212,7 +214,7 @@ class _Codegen(ConditionVisitor):
             span=Span(*m.span),
         )
 
-    def block(self, block, index: int) -> Block:
+    def block(self, block: ir.Block, index: int) -> Block:
         asm = self.asm
         start = asm.offset
         label = block.label
@@ -226,8 +228,8 @@ class _Codegen(ConditionVisitor):
             cache = self.commands
             for mv in block.moves:
                 asm.mark(*mv.span)
-                key = ("M", mv.v_x.text, mv.v_y.text, mv.v_theta.text, mv.wait_t.text,
-                       mv.duration.text)
+                key: tuple[str, ...] = ("M", mv.v_x.text, mv.v_y.text, mv.v_theta.text,
+                                        mv.wait_t.text, mv.duration.text)
                 encoded = cache.get(key)
                 if encoded is not None:
                     asm.replay(encoded)

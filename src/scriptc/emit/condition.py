@@ -17,7 +17,28 @@ not (`Human`, `v`) prints the same.
 
 from __future__ import annotations
 
-from scriptc.ir.nodes import AliasRef, Call, Condition, Name
+from scriptc.ir.nodes import (
+    AliasRef,
+    Assignment,
+    AttAssignment,
+    AttRef,
+    Call,
+    CallEvaluation,
+    CallTest,
+    ClassAssignment,
+    Condition,
+    Evaluation,
+    FieldRef,
+    FieldTest,
+    Name,
+    NumberValue,
+    StringValue,
+    Test,
+    TrueEvaluation,
+    Value,
+    VarAssignment,
+    VarRef,
+)
 from scriptc.ir.walk import ConditionVisitor
 from scriptc.language import quote
 
@@ -41,47 +62,47 @@ def _alias(alias: AliasRef) -> str:
 class _Text(ConditionVisitor):
     """The text of each kind of node."""
 
-    def visit_number(self, value) -> str:
+    def visit_number(self, value: NumberValue) -> str:
         return value.number.text
 
-    def visit_string(self, value) -> str:
+    def visit_string(self, value: StringValue) -> str:
         return quote(value.text.value)
 
-    def visit_field(self, value) -> str:
+    def visit_field(self, value: FieldRef) -> str:
         return f"{_alias(value.alias)}>&{_bare('&', value.field)}"
 
-    def visit_att(self, value) -> str:
+    def visit_att(self, value: AttRef) -> str:
         return f"{_alias(value.alias)}>${_bare('$', value.att)}"
 
-    def visit_var(self, value) -> str:
+    def visit_var(self, value: VarRef) -> str:
         return _sigil("@", value.name)
 
-    def visit_alias(self, value) -> str:
+    def visit_alias(self, value: AliasRef) -> str:
         return _alias(value)
 
-    def visit_field_test(self, test) -> str:
+    def visit_field_test(self, test: FieldTest) -> str:
         return f"?THIS>&{_bare('&', test.field)} {test.op.text} {self.visit(test.value)}"
 
-    def visit_call_test(self, test) -> str:
+    def visit_call_test(self, test: CallTest) -> str:
         return call_text(test.call)
 
-    def visit_class_assignment(self, assignment) -> str:
+    def visit_class_assignment(self, assignment: ClassAssignment) -> str:
         tests = ", ".join([self.visit(t) for t in assignment.tests])
         return (f"{{CLASS {_sigil('#', assignment.class_name)} {assignment.scope.text} "
                 f"{_alias(assignment.alias)} ({tests})}}")
 
-    def visit_var_assignment(self, assignment) -> str:
+    def visit_var_assignment(self, assignment: VarAssignment) -> str:
         return (f"{{VAR {_sigil('@', assignment.var.name)} {assignment.scope.text} "
                 f"{call_text(assignment.call)}}}")
 
-    def visit_att_assignment(self, assignment) -> str:
+    def visit_att_assignment(self, assignment: AttAssignment) -> str:
         return (f"{{ATT {_alias(assignment.alias)} {_sigil('$', assignment.att)} "
                 f"{assignment.scope.text} {call_text(assignment.call)}}}")
 
-    def visit_call_evaluation(self, evaluation) -> str:
+    def visit_call_evaluation(self, evaluation: CallEvaluation) -> str:
         return f"{{{call_text(evaluation.call)}}}"
 
-    def visit_true_evaluation(self, evaluation) -> str:
+    def visit_true_evaluation(self, evaluation: TrueEvaluation) -> str:
         return "{TRUE}"
 
 
@@ -90,9 +111,10 @@ _visit = _TEXT.visit
 _text_of = _Text.methods  # for the loops below, which the JSON emitter runs for every jump
 
 
-def value_text(value) -> str:
+def value_text(value: Value | Test | Assignment | Evaluation) -> str:
     """One argument or compared value (or any other node of a condition)."""
-    return _visit(value)
+    text: str = _visit(value)
+    return text
 
 
 def call_text(call: Call) -> str:

@@ -4,8 +4,9 @@ The text is laid out byte for byte as the thesis's own generator wrote it (`Scri
 whose output is `tests/data/script_gen_test_act.json`): one element per line, no indentation,
 `"key":value` without spaces, `{` and `[` at the end of the line of their key, `}` and `]` on a
 line of their own, an empty array as `[` newline `]`, and a final newline after the closing
-brace. Key order is the thesis's (docs/json.md): `activityname`, `alfarulemessages`, `omegarulemessages`,
-`goal0`, `goal1`, ...; a goal holds `goalid` then `act0`, ...; an action `blk0`, ....
+brace. Key order is the thesis's (docs/json.md): `activityname`, `alfarulemessages`,
+`omegarulemessages`, `goal0`, `goal1`, ...; a goal holds `goalid` then `act0`, ...; an action
+`blk0`, ....
 
 Values follow the thesis's types: speeds and colour channels are JSON strings holding the number
 as written; `wait_t`, `duration`, `turnas` and `rulecode` are integers; rule actions and mutex
@@ -26,8 +27,10 @@ from __future__ import annotations
 from decimal import Decimal, InvalidOperation
 from json.encoder import encode_basestring as _json_string
 
+from scriptc.emit.condition import condition_text
 from scriptc.ir.nodes import (
     AudioCommand,
+    Block,
     InstructionBlock,
     JumpBlock,
     LedCommand,
@@ -40,7 +43,6 @@ from scriptc.ir.nodes import (
     TerminusBlock,
     block_path,
 )
-from scriptc.emit.condition import condition_text
 from scriptc.numbers import whole_number
 
 __all__ = ["EmitError", "emit_json", "label_paths"]
@@ -58,10 +60,10 @@ def _integer(number: Number, what: str) -> str:
         # The common case, and it keeps leading zeros out of the JSON (`007` -> `7`).
         if len(text) < 19 and (text[0] != "0" or len(text) == 1):
             return text  # already the integer's JSON
-        value = whole_number(text)
-        if value is None:
+        whole = whole_number(text)
+        if whole is None:
             raise EmitError(f"{what} `{text[:20]}...` is too large")
-        return str(value)
+        return str(whole)
     try:
         value = Decimal(text.strip())
     except InvalidOperation:
@@ -163,10 +165,11 @@ def _target(target: Name | None, paths: dict[str, str]) -> str:
     try:
         return '"' + paths[target.text] + '"'
     except KeyError:
-        raise EmitError(f"a jump names the label `{target.text}`, which no block carries") from None
+        raise EmitError(f"a jump names the label `{target.text}`, which no block "
+                        "carries") from None
 
 
-def _block(key: str, block, paths: dict[str, str]) -> str:
+def _block(key: str, block: Block, paths: dict[str, str]) -> str:
     if isinstance(block, InstructionBlock):
         return (
             f'"{key}":{{\n"type":"instruction",\n"flagged":"flag",\n'

@@ -37,8 +37,19 @@ from scriptc.language import (
 )
 
 __all__ = [
-    "LINE_WIDTH", "GOAL_INDENT", "ACTION_INDENT", "BLOCK_INDENT", "INSTRUCTION", "JUMP",
-    "SENSOR", "LayoutError", "Tok", "tokens", "piece", "command_text", "lay_out",
+    "ACTION_INDENT",
+    "BLOCK_INDENT",
+    "GOAL_INDENT",
+    "INSTRUCTION",
+    "JUMP",
+    "LINE_WIDTH",
+    "SENSOR",
+    "LayoutError",
+    "Tok",
+    "command_text",
+    "lay_out",
+    "piece",
+    "tokens",
 ]
 
 # Items wider than this (in code points, indentation included) are wrapped.
@@ -94,7 +105,7 @@ class Tok:
 def tokens(item_text: str) -> list[Tok]:
     """The tokens of an item's text, blanks dropped. Raises LayoutError at a character that
     starts no token."""
-    toks = []
+    toks: list[Tok] = []
     pos = 0
     n = len(item_text)
     while pos < n:
@@ -102,6 +113,7 @@ def tokens(item_text: str) -> list[Tok]:
         if m is None:
             raise LayoutError(f"cannot read the item {item_text[:60]!r} at {pos}")
         kind = m.lastgroup
+        assert kind is not None  # every alternative of `_TOKEN` is a named group
         if kind != "ws":
             value = m.group()
             if kind == "alias" and value == "?THIS":
@@ -287,6 +299,7 @@ def piece(text: str) -> Tok:
     if m is None or m.lastgroup == "ws":
         return Tok("raw", text)
     kind = m.lastgroup
+    assert kind is not None  # every alternative of `_TOKEN` is a named group
     return Tok("this" if kind == "alias" and text == "?THIS" else kind, text)
 
 

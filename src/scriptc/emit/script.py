@@ -40,6 +40,7 @@ from scriptc.emit.printer import (
 )
 from scriptc.ir.nodes import (
     AudioCommand,
+    Block,
     InstructionBlock,
     JumpBlock,
     LedCommand,
@@ -52,7 +53,7 @@ from scriptc.ir.nodes import (
 )
 from scriptc.language import quote
 
-__all__ = ["format_script", "format_block", "format_rule_message", "ConditionText"]
+__all__ = ["ConditionText", "format_block", "format_rule_message", "format_script"]
 
 ConditionText = Callable[[JumpBlock], str]
 """What a jump's `CND(...)` holds: by default the canonical text of its IR condition; the
@@ -112,7 +113,7 @@ def _condition_tokens(text: str) -> list[Tok]:
         return [Tok("raw", text)]
 
 
-def _block_tokens(block, condition: ConditionText) -> tuple[list[Tok], str]:
+def _block_tokens(block: Block, condition: ConditionText) -> tuple[list[Tok], str]:
     """The tokens of a block item and the kind of its body (where it may wrap)."""
     head = [*_toks("[", "b", "#"), *_label(block.label), piece("#")]
     if isinstance(block, InstructionBlock):
@@ -144,7 +145,7 @@ def format_rule_message(message: RuleMessage) -> str:
     return lay_out(_rule_message_tokens(message), "", 0)
 
 
-def format_block(block, condition: ConditionText = _default_condition) -> str:
+def format_block(block: Block, condition: ConditionText = _default_condition) -> str:
     """One block item as it stands in a script (laid out at the blocks' indentation, so a
     wrapped block's later lines carry their alignment), without the indentation of its
     first line."""
