@@ -28,8 +28,8 @@ import bisect
 import re
 from dataclasses import dataclass, field
 
-from scriptc.diagnostics.model import Diagnostic, Fix, Severity, TextEdit
 from scriptc.diagnostics.codes import diagnostic
+from scriptc.diagnostics.model import Diagnostic, Fix, Severity, TextEdit
 from scriptc.source import SourceFile, Span
 
 MARKER = "scriptc:"
@@ -148,7 +148,8 @@ def find_suppressions(source: SourceFile) -> tuple[list[Suppression], list[Diagn
 
 def _suppress(suppressions: list[Suppression], diagnostics: list[Diagnostic]
               ) -> tuple[list[Diagnostic], list[Diagnostic]]:
-    kept, suppressed = [], []
+    kept: list[Diagnostic] = []
+    suppressed: list[Diagnostic] = []
     for d in diagnostics:
         hit = False
         if d.severity is not Severity.ERROR:

@@ -27,7 +27,8 @@ _FAMILIES = {
 
 def _demote(markdown: str) -> str:
     """Explanations use `##` headings; inside the catalogue they sit under `###` codes."""
-    return "\n".join("##" + line if line.startswith("## ") else line for line in markdown.splitlines())
+    return "\n".join("##" + line if line.startswith("## ") else line
+                     for line in markdown.splitlines())
 
 
 def render_catalogue() -> str:
@@ -36,7 +37,8 @@ def render_catalogue() -> str:
         "# Diagnostics",
         "",
         "Every diagnostic scriptc reports, generated from the registry",
-        "(`src/scriptc/diagnostics/codes.py`) and the explanations beside it; `scriptc explain CODE`",
+        ("(`src/scriptc/diagnostics/codes.py`) and the explanations beside it; "
+         "`scriptc explain CODE`"),
         "prints the same text. Do not edit by hand: run",
         "`python -m scriptc.diagnostics.catalogue > docs/diagnostics.md`.",
         "",
@@ -45,7 +47,8 @@ def render_catalogue() -> str:
     ]
     for c in codes:
         summary = c.summary.replace("|", "\\|")
-        out.append(f"| [{c.code}](#{c.code.lower()}) | `{c.name}` | {c.severity.value} | {summary} |")
+        out.append(f"| [{c.code}](#{c.code.lower()}) | `{c.name}` | {c.severity.value} "
+                   f"| {summary} |")
     family = None
     for c in codes:
         if c.code[0] != family:

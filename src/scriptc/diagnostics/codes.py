@@ -30,7 +30,8 @@ from pathlib import Path
 from scriptc.diagnostics.model import Diagnostic, Fix, Label, Severity
 from scriptc.source import Span
 
-E, W, I = Severity.ERROR, Severity.WARNING, Severity.INFO
+# The severity column of the table below (`INFO` in full: a lone `I` reads as `l` or `1`).
+E, W, INFO = Severity.ERROR, Severity.WARNING, Severity.INFO
 
 
 @dataclass(frozen=True, slots=True)
@@ -65,12 +66,14 @@ _CODES = (
     Code("S005", "empty-goal", E, "a goal has no action"),
     Code("S006", "empty-action", E, "an action has no block"),
     Code("S007", "missing-goal-id", E, "a goal item has no id"),
-    Code("S008", "track-order", E, "an instruction block must list `MV()`, `LD()` and `AO()` once each, in this order"),
+    Code("S008", "track-order", E,
+         "an instruction block must list `MV()`, `LD()` and `AO()` once each, in this order"),
     Code("S009", "rule-message-fields", E, "a rule message does not have its six fields"),
     # M: rule messages and the mutex
     Code("M001", "alfa-mutex-order", E, "alfa messages must all be `M` but the last, which is `U`"),
     Code("M002", "omega-mutex-order", E, "omega messages must start with `L`, then all `M`"),
-    Code("M003", "unbalanced-mutex", E, "a script with rule messages must both unlock (alfa) and lock (omega)"),
+    Code("M003", "unbalanced-mutex", E,
+         "a script with rule messages must both unlock (alfa) and lock (omega)"),
     Code("M004", "omega-leak", W, "the omega list does not undo what the alfa list did"),
     Code("M005", "invalid-rule-letter", E, "a rule action or mutex letter that does not exist"),
     # L: labels
@@ -80,11 +83,12 @@ _CODES = (
     # F: control flow
     Code("F001", "unreachable-block", W, "no path from the script's start reaches this block"),
     Code("F002", "jump-cycle", E, "a cycle of jumps passes no instruction block and never ends"),
-    Code("F003", "no-terminus", I, "the script ends by running past its last block"),
+    Code("F003", "no-terminus", INFO, "the script ends by running past its last block"),
     # V: values
     Code("V001", "command-fields", E, "a command string has the wrong number of fields"),
     Code("V002", "not-a-number", E, "a field that must be a number is not one"),
-    Code("V003", "non-finite-number", E, "a number is infinite, not a number, or too large to represent"),
+    Code("V003", "non-finite-number", E,
+         "a number is infinite, not a number, or too large to represent"),
     Code("V004", "colour-range", E, "a colour channel outside [0, 1]"),
     Code("V005", "turnas-value", E, "`turnas` must be 0 or 1"),
     Code("V006", "invalid-time", E, "a time that is not a whole number of milliseconds in range"),
@@ -100,35 +104,62 @@ _CODES = (
     Code("R008", "rebound-alias", W, "an alias bound twice in one condition"),
     Code("R009", "this-outside-test", E, "`?THIS` used outside the tests of a CLASS assignment"),
     # A: audio
-    Code("A001", "absolute-audio-path", W, "an audio path that is absolute, so it only works on one machine"),
+    Code("A001", "absolute-audio-path", W,
+         "an audio path that is absolute, so it only works on one machine"),
     Code("A002", "audio-path-escapes", W, "an audio path that leaves the activity repository"),
     Code("A003", "empty-audio-path", E, "an audio command without a track path"),
     # J: thesis JSON input
     Code("J001", "invalid-json", E, "the file is not valid JSON"),
     Code("J002", "schema-violation", E, "the JSON does not have the shape of a thesis script"),
-    Code("J003", "invalid-jump-path", E, "a jump path that is not `goalG/actA/blkB` of an existing block"),
+    Code("J003", "invalid-jump-path", E,
+         "a jump path that is not `goalG/actA/blkB` of an existing block"),
     # C: configuration and suppressions
     Code("C001", "unknown-config-key", E, "a key the configuration does not have"),
-    Code("C002", "invalid-config-value", E, "a configuration value of the wrong type or out of range"),
+    Code("C002", "invalid-config-value", E,
+         "a configuration value of the wrong type or out of range"),
     Code("C003", "unused-suppression", W, "a suppression comment that suppresses nothing"),
-    Code("C004", "invalid-code", W, "a code that does not exist, an error code or a run-time code, in a suppression or the configuration"),
+    Code("C004", "invalid-code", W,
+         "a code that does not exist, an error code or a run-time code, in a suppression or the "
+         "configuration"),
     Code("C005", "invalid-config-file", E, "a configuration file that is not valid TOML"),
-    Code("C006", "invalid-suppression", W, "a `scriptc:` comment that is not a suppression scriptc understands"),
+    Code("C006", "invalid-suppression", W,
+         "a `scriptc:` comment that is not a suppression scriptc understands"),
     # K: safety against the robot profile (check/safety.py, docs/robot.md)
-    Code("K001", "speed-beyond-profile", W, "a move faster than the robot profile allows (the governor slows it down)"),
-    Code("K002", "led-flashing", E, "LEDs flashing faster than the profile allows (3 Hz: a seizure risk, WCAG 2.3.1)"),
-    Code("K003", "ramps-change-pose", W, "moves whose acceleration ramps leave the robot away from where the script puts it"),
+    Code("K001", "speed-beyond-profile", W,
+         "a move faster than the robot profile allows (the governor slows it down)"),
+    Code("K002", "led-flashing", E,
+         "LEDs flashing faster than the profile allows (3 Hz: a seizure risk, WCAG 2.3.1)"),
+    Code("K003", "ramps-change-pose", W,
+         "moves whose acceleration ramps leave the robot away from where the script puts it"),
     # X: run time (the trace's `error` events carry the name; runtime/status.py)
-    Code("X001", "mutex-misuse", W, "rule messages misuse the map's mutex at run time (a script that was not checked)", at_run_time=True),
-    Code("X002", "unknown-rulecode", W, "a rule message names a rulecode the rule library does not have: the rule does nothing", at_run_time=True),
-    Code("X003", "rule", W, "a rule cannot be made from its message, or its body raised: the chain goes on", at_run_time=True),
-    Code("X004", "function", W, "a function failed or is unknown at run time: it counts as false (no value for an F function)", at_run_time=True),
-    Code("X005", "override", W, "a compulsory switch names a script, goal or block that does not exist: nothing switches", at_run_time=True),
-    Code("X006", "script_vect", W, "a `Script/script_vect` update names a script that cannot be found or loaded: it is left out", at_run_time=True),
-    Code("X007", "update", W, "a rule posted a map update the map cannot take: it is dropped", at_run_time=True),
-    Code("X008", "no-progress", E, "the session looped at one instant without letting time pass: the run stops", at_run_time=True),
-    Code("X009", "read", E, "reading the script's blocks failed (a jump to no block, a read that never ends, a VM trap): the run stops", at_run_time=True),
-    Code("X010", "robot-unstable", E, "the robot's physics failed (the simulation diverged): the run stops", at_run_time=True),
+    Code("X001", "mutex-misuse", W,
+         "rule messages misuse the map's mutex at run time (a script that was not checked)",
+         at_run_time=True),
+    Code("X002", "unknown-rulecode", W,
+         "a rule message names a rulecode the rule library does not have: the rule does nothing",
+         at_run_time=True),
+    Code("X003", "rule", W,
+         "a rule cannot be made from its message, or its body raised: the chain goes on",
+         at_run_time=True),
+    Code("X004", "function", W,
+         "a function failed or is unknown at run time: it counts as false (no value for an F "
+         "function)", at_run_time=True),
+    Code("X005", "override", W,
+         "a compulsory switch names a script, goal or block that does not exist: nothing switches",
+         at_run_time=True),
+    Code("X006", "script_vect", W,
+         "a `Script/script_vect` update names a script that cannot be found or loaded: it is left "
+         "out", at_run_time=True),
+    Code("X007", "update", W,
+         "a rule posted a map update the map cannot take: it is dropped", at_run_time=True),
+    Code("X008", "no-progress", E,
+         "the session looped at one instant without letting time pass: the run stops",
+         at_run_time=True),
+    Code("X009", "read", E,
+         "reading the script's blocks failed (a jump to no block, a read that never ends, a VM "
+         "trap): the run stops", at_run_time=True),
+    Code("X010", "robot-unstable", E,
+         "the robot's physics failed (the simulation diverged): the run stops", at_run_time=True),
 )
 
 REGISTRY: dict[str, Code] = {c.code: c for c in _CODES}

@@ -24,11 +24,14 @@ sits on the path of `scriptc lint`, whose cold start is budgeted.
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from typing import Any, Protocol
+from typing import TYPE_CHECKING, Any, Protocol
 
 from scriptc.diagnostics.model import Diagnostic, Severity
 from scriptc.paths import repository_path, repository_root
 from scriptc.source import SourceFile, Span
+
+if TYPE_CHECKING:
+    from scriptc.diagnostics.codes import Code
 
 
 class FileResults(Protocol):
@@ -46,7 +49,7 @@ def _pairs(results: Sequence[Any]) -> list[tuple[SourceFile, Sequence[Diagnostic
     return [(r.source, r.diagnostics) if hasattr(r, "diagnostics") else r for r in results]
 
 
-def _code_entry(code: str):
+def _code_entry(code: str) -> Code | None:
     from scriptc.diagnostics.codes import REGISTRY
 
     return REGISTRY.get(code)
@@ -116,7 +119,7 @@ def _visible(text: str) -> str:
 
 
 class _Annotation:
-    __slots__ = ("line", "start", "end", "marker", "message", "style")
+    __slots__ = ("end", "line", "marker", "message", "start", "style")
 
     def __init__(self, source: SourceFile, span: Span, marker: str, message: str | None,
                  style: str) -> None:
@@ -202,7 +205,7 @@ def _diagnostic_lines(source: SourceFile, d: Diagnostic) -> list[_Line]:
         if text:
             row.append((" " + text, None))
         out.append(row)
-        for a, (column, length) in zip(here, places):
+        for a, (column, length) in zip(here, places, strict=True):  # a place per annotation
             row = [(f"{pad} | ", _FRAME), (" " * column + a.marker * length, a.style)]
             if a.message:
                 row.append((" " + _visible(a.message), a.style))
@@ -233,7 +236,7 @@ def plural(n: int, word: str, words: str | None = None) -> str:
 
 def summary(results: Sequence[Any]) -> str:
     """`error: 2 errors, 1 warning emitted`, or "" when there is nothing to report."""
-    counts = {s: 0 for s in Severity}
+    counts = dict.fromkeys(Severity, 0)
     for _source, diagnostics in _pairs(results):
         for d in diagnostics:
             counts[d.severity] += 1
@@ -346,7 +349,7 @@ _SARIF_LEVEL = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.I
 SRCROOT = "%SRCROOT%"
 
 
-def artifact_uri(path: str, roots: dict | None = None) -> str:
+def artifact_uri(path: str, roots: dict[str, str | None] | None = None) -> str:
     """A SARIF artifact URI for a file: relative to the repository's root (percent-encoded,
     forward slashes: `scriptc.paths.repository_path`, what code scanning resolves), a
     `file://` URI for a file outside it."""
@@ -407,7 +410,7 @@ def render_sarif(results: Sequence[Any]) -> str:
     codes = sorted({d.code for _source, ds in pairs for d in ds})
     index = {code: i for i, code in enumerate(codes)}
     sarif_results = []
-    roots: dict = {}
+    roots: dict[str, str | None] = {}
     for source, diagnostics in pairs:
         uri = artifact_uri(source.path, roots)
         # A relative URI is relative to the repository's root, which the log names (as
@@ -415,7 +418,9 @@ def render_sarif(results: Sequence[Any]) -> str:
         artifact = {"uri": uri, "uriBaseId": SRCROOT} if not uri.startswith("file:") else \
             {"uri": uri}
 
-        def location(span: Span, message: str | None = None) -> dict[str, Any]:
+        def location(span: Span, message: str | None = None, *,
+                     artifact: dict[str, str] = artifact,
+                     source: SourceFile = source) -> dict[str, Any]:
             loc: dict[str, Any] = {"physicalLocation": {
                 "artifactLocation": artifact, "region": _sarif_region(source, span)}}
             if message is not None:
@@ -446,7 +451,7 @@ def render_sarif(results: Sequence[Any]) -> str:
                                          for e in d.fix.edits],
                     }],
                 }]
-            properties = {}
+            properties: dict[str, str | list[str]] = {}
             if d.notes:
                 properties["notes"] = list(d.notes)
             if d.help:
@@ -454,7 +459,7 @@ def render_sarif(results: Sequence[Any]) -> str:
             if properties:
                 result["properties"] = properties
             sarif_results.append(result)
-    log = {
+    log: dict[str, Any] = {
         "$schema": SARIF_SCHEMA,
         "version": "2.1.0",
         "runs": [{
@@ -494,7 +499,7 @@ def render_github(results: Sequence[Any]) -> str:
     """Workflow commands; `file=` is relative to the repository's root (GitHub attaches an
     annotation to a pull request's diff only so: `scriptc.paths.repository_path`)."""
     out = []
-    roots: dict = {}
+    roots: dict[str, str | None] = {}
     for source, diagnostics in _pairs(results):
         path = repository_path(source.path, roots) or source.path
         for d in diagnostics:
@@ -529,8 +534,8 @@ def render_grouped(results: Sequence[Any], *, unsafe: bool = False) -> str:
         for d in diagnostics:
             pos = source.position(d.span.start)
             mark = "[*] " if d.fix is not None and (unsafe or d.fix.safe) else ""
-            rows.append((f"{pos.line}:{pos.column}", f"{d.code} {mark}{d.severity.value}: "
-                                                     f"{_printable(d.message)}"))
+            rows.append((f"{pos.line}:{pos.column}", (f"{d.code} {mark}{d.severity.value}: "
+                                                      f"{_printable(d.message)}")))
         width = max(len(where) for where, _ in rows)
         out.append(f"{_printable(source.path)}:\n")
         out += [f"  {where:<{width}} {rest}\n" for where, rest in rows]
@@ -572,13 +577,12 @@ def render_statistics(run: Any, format: str) -> str:
     code), with the code's name and `[*]` when `--fix` fixes every one of them (as ruff's);
     as text, or as JSON (`code`, `name`, `severity`, `count`, `fixable`) with `format`
     "json"."""
-    counts: dict[str, list] = {}
+    counts: dict[str, tuple[int, bool, str]] = {}  # code -> (count, fixable, severity)
     for _source, diagnostics in _pairs(run.results):
         for d in diagnostics:
             applies = d.fix is not None and (run.unsafe_fixes or d.fix.safe)
-            entry = counts.setdefault(d.code, [0, True, d.severity.value])
-            entry[0] += 1
-            entry[1] = entry[1] and applies
+            count, fixable, severity = counts.get(d.code, (0, True, d.severity.value))
+            counts[d.code] = (count + 1, fixable and applies, severity)
     rows = sorted(counts.items(), key=lambda item: (-item[1][0], item[0]))
     if format == "json":
         import json
@@ -613,19 +617,20 @@ def diff_summary(run: Any) -> str:
 def lint_summary(run: Any, several: bool = True) -> str:
     """The lines `scriptc lint` ends with on stderr: what --fix did, and (`several` files)
     what was found."""
-    lines = []
+    lines: list[str] = []
     if run.fixed:
         lines.append(f"fixed {plural(run.fixed, 'problem')} in "
                      f"{plural(run.fixed_files, 'file')}")
     if several:
-        counts = {s: 0 for s in Severity}
+        counts = dict.fromkeys(Severity, 0)
         for _source, diagnostics in _pairs(run.results):
             for d in diagnostics:
                 counts[d.severity] += 1
         found = [plural(counts[Severity.ERROR], "error"),
                  plural(counts[Severity.WARNING], "warning"),
                  plural(counts[Severity.INFO], "info message")]
-        found = [f for f, s in zip(found, Severity) if counts[s]] or ["no problems"]
+        # one count per severity, in the enum's order
+        found = [f for f, s in zip(found, Severity, strict=True) if counts[s]] or ["no problems"]
         cached = f" ({run.cached} unchanged, from the cache)" if run.cached else ""
         line = f"checked {plural(run.files, 'file')}{cached}: {', '.join(found)}"
         if run.fixable:
