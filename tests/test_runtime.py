@@ -352,6 +352,40 @@ def test_user_functions_are_checked_and_run() -> None:
         impls.register("k", "X", 0, lambda call: True)
 
 
+class _NoTruth:
+    def __bool__(self) -> bool:
+        raise ValueError("no truth value")
+
+
+def test_a_function_result_that_is_no_value_is_its_failure() -> None:
+    """An F function's result is a text, a number or None, a B/E function's anything with a
+    truth value: a list from F, or a result whose truth value raises, is the function failing
+    (reported, no value / false), not the session stopping."""
+    impls = STANDARD_IMPLEMENTATIONS.extended()
+    impls.register("listed", "F", 0, lambda call: ["a", "b"])
+    impls.register("vague", "E", 0, lambda call: _NoTruth())
+    impls.register("count", "F", 0, lambda call: 3.0)
+    text = """[odd]
+[goal:g]
+[action]
+[b##blk_jump: CND({VAR @n U F: count()} ! {TRUE}) TRJMP() FLSJMP()]
+[b##blk_jump: CND({VAR @v U F: listed()} ! {TRUE}) TRJMP() FLSJMP()]
+[b##blk_jump: CND(! {E: vague()}) TRJMP() FLSJMP()]
+[b##blk_terminus]
+"""
+    trace = Trace()
+    result = Session([program(text, functions=impls)], functions=impls, trace=trace).run()
+    counted, listed, vague = trace.of_kind("jump")
+    assert counted["value"] is True and counted["bindings"] == {"@n": "3"}
+    assert listed["value"] is False and listed["bindings"] == {}
+    assert vague["value"] is False
+    first, second = trace.of_kind("error")
+    assert first["code"] == second["code"] == "function"
+    assert "`listed` returned list, not a text or a number" in first["message"]
+    assert "`vague`" in second["message"] and "no truth value" in second["message"]
+    assert result.outcome == "completed"
+
+
 def test_user_rules_change_the_block_hold_motion_and_set_vars() -> None:
     rules = STANDARD_RULES.extended()
     slow = BlockCommands(moves=(Move(0.05, 0, 0, 0, 2000),))

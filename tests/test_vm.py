@@ -319,6 +319,38 @@ def test_the_vm_never_crashes_on_a_verified_program() -> None:
     assert len(ran) >= 30, f"only {len(ran)} mutants verified"
 
 
+def test_a_var_and_an_att_hold_texts_whatever_value_the_stack_gives() -> None:
+    """SET_VAR and SET_ATT pop any value (`v`): a verified program may assign a number
+    constant, which codegen never writes. VARs and ATTs hold texts (docs/rules.md), and the
+    trace's bindings are texts (schemas/trace.schema.json): the number is stored as its text."""
+    from scriptc.bytecode.code import Assembler, JumpTarget
+    from scriptc.bytecode.program import Action, Block, Goal, Num, Program
+    from scriptc.source import Span
+
+    asm = Assembler()
+    fail = JumpTarget()
+    asm.emit("COND", fail, 0)
+    asm.emit("PUSH_CONST", 1)
+    asm.emit("SET_VAR", ord("U"), 2)
+    asm.emit("PUSH_CONST", 1)
+    asm.emit("SET_ATT", ord("U"), 3, 4)
+    asm.emit("NEXT_BLOCK")
+    asm.place(fail)
+    asm.emit("NEXT_BLOCK")
+    program = Program(name=0, source=None, constants=("x", Num(2.0, "2.0"), "@n", "?k", "mood"),
+                      alfa=(), omega=(), goals=(Goal(0, 1, Span(0, 0)),),
+                      actions=(Action(1, Span(0, 0)),), blocks=(Block("J", None, 0, Span(0, 0)),),
+                      code=bytes(asm.code))
+    executor = program_from_bytecode(bytecode.verify(program)).executor()
+    executor.start()
+    sink, ctx = Sink(), context(1)
+    ctx.bindings.bind("?k", ctx.world.entity("Human", "h0"), "U", READER)
+    assert executor.read(ctx, sink) == End(Position(0, 0, 0), "past_end")
+    assert sink.events[-1][3] is True  # the true exit
+    assert ctx.bindings.get_var("@n") == "2" and ctx.bindings.get_att("?k", "mood") == "2"
+    assert ctx.bindings.snapshot() == {"?k": "Human/h0", "@n": "2", "?k>$mood": "2"}
+
+
 def test_the_vm_runs_verified_programs_only() -> None:
     """A runtime gets programs only through verification: the VM refuses a bytecode Program
     that did not go through `bytecode.verify`, and only the verifier makes a `Verified`."""

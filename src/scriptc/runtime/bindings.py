@@ -17,40 +17,49 @@ Every operation is O(1) but the expiries, which are O(bindings of that scope).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Generic, TypeVar
 
 from scriptc.runtime.world import Entity
 
 SCOPE_RANK = {"L": 0, "T": 1, "U": 2}
 
 
+T = TypeVar("T", Entity, str)
+
+
 @dataclass(slots=True)
-class Slot:
+class Slot(Generic[T]):
     """One binding: its value (an Entity for an alias, a text for a VAR or ATT), scope and
     owner (who bound it: a rule id, or READER for the block reader)."""
 
-    value: object
+    value: T
     scope: str
     owner: str
+
+
+# Whether a binding outlives an expiry, judged by its scope and owner (whatever its value).
+Keep = Callable[["Slot[Entity] | Slot[str]"], bool]
 
 
 READER = "<block reader>"
 
 
 class Bindings:
-    __slots__ = ("aliases", "holder", "vars", "atts")
+    __slots__ = ("aliases", "atts", "holder", "vars")
 
     def __init__(self) -> None:
-        self.aliases: dict[str, Slot] = {}
+        self.aliases: dict[str, Slot[Entity]] = {}
         self.holder: dict[int, str] = {}  # id(entity) -> alias (one alias per entity)
-        self.vars: dict[str, Slot] = {}
-        self.atts: dict[tuple[str, str], Slot] = {}
+        self.vars: dict[str, Slot[str]] = {}
+        self.atts: dict[tuple[str, str], Slot[str]] = {}
 
     # -- aliases ----------------------------------------------------------------------------
 
     def lookup(self, alias: str) -> Entity | None:
         slot = self.aliases.get(alias)
-        return slot.value if slot is not None else None  # type: ignore[return-value]
+        return slot.value if slot is not None else None
 
     def alias_of(self, entity: Entity) -> str | None:
         return self.holder.get(id(entity))
@@ -80,7 +89,7 @@ class Bindings:
 
     def get_var(self, name: str) -> str | None:
         slot = self.vars.get(name)
-        return slot.value if slot is not None else None  # type: ignore[return-value]
+        return slot.value if slot is not None else None
 
     def set_var(self, name: str, value: str, scope: str, owner: str) -> None:
         old = self.vars.get(name)
@@ -90,7 +99,7 @@ class Bindings:
 
     def get_att(self, alias: str, name: str) -> str | None:
         slot = self.atts.get((alias, name))
-        return slot.value if slot is not None else None  # type: ignore[return-value]
+        return slot.value if slot is not None else None
 
     def set_att(self, alias: str, name: str, value: str, scope: str, owner: str) -> None:
         old = self.atts.get((alias, name))
@@ -100,7 +109,7 @@ class Bindings:
 
     # -- expiry -------------------------------------------------------------------------------
 
-    def _expire(self, keep) -> None:
+    def _expire(self, keep: Keep) -> None:
         for alias in [a for a, s in self.aliases.items() if not keep(s)]:
             self.unbind(alias)
         for name in [n for n, s in self.vars.items() if not keep(s)]:
@@ -128,8 +137,7 @@ class Bindings:
     def snapshot(self) -> dict[str, str]:
         """Every binding as text, for traces: `?kid` -> `Human/kid1`, `@v` -> value,
         `?kid>$mood` -> value."""
-        out: dict[str, str] = {a: s.value.key  # type: ignore[union-attr]
-                               for a, s in self.aliases.items()}
-        out.update((n, s.value) for n, s in self.vars.items())  # type: ignore[misc]
-        out.update((f"{a}>${n}", s.value) for (a, n), s in self.atts.items())  # type: ignore[misc]
+        out = {a: s.value.key for a, s in self.aliases.items()}
+        out.update((n, s.value) for n, s in self.vars.items())
+        out.update((f"{a}>${n}", s.value) for (a, n), s in self.atts.items())
         return out

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import NamedTuple, Union
+from typing import NamedTuple, overload
 
 from scriptc.ir.fields import NUMBER_RE
 
@@ -41,7 +41,7 @@ class Move:
     wait_t: int
     duration: int
 
-    def as_dict(self) -> dict:
+    def as_dict(self) -> dict[str, float]:
         return {"v_x": self.v_x, "v_y": self.v_y, "v_theta": self.v_theta,
                 "wait_t": self.wait_t, "duration": self.duration}
 
@@ -57,7 +57,7 @@ class Led:
     wait_t: int
     duration: int
 
-    def as_dict(self) -> dict:
+    def as_dict(self) -> dict[str, float]:
         return {"r": self.r, "g": self.g, "b": self.b, "turnas": self.turnas,
                 "wait_t": self.wait_t, "duration": self.duration}
 
@@ -73,11 +73,11 @@ class Audio:
     wait_t: int
     duration: int
 
-    def as_dict(self) -> dict:
+    def as_dict(self) -> dict[str, str | int]:
         return {"track_path": self.track_path, "wait_t": self.wait_t, "duration": self.duration}
 
 
-Command = Union[Move, Led, Audio]
+Command = Move | Led | Audio
 
 TRACKS = ("move", "led", "audioout")
 
@@ -120,7 +120,7 @@ class RuleMessage:
 # Values in conditions: text, numbers, or None for "missing" (a field never set, an unbound
 # alias). A missing value never satisfies a test or a comparison.
 
-Value = Union[str, float, int, None]
+Value = str | float | int | None
 
 
 def as_number(value: Value) -> float | None:
@@ -146,6 +146,10 @@ def format_number(number: float | int) -> str:
     return repr(number)
 
 
+@overload
+def to_text(value: None) -> None: ...
+@overload
+def to_text(value: str | float | int) -> str: ...
 def to_text(value: Value) -> str | None:
     """The value as text (None stays None): numbers through `format_number`."""
     if value is None or isinstance(value, str):

@@ -12,7 +12,8 @@ Three layers:
 - The parts of a condition, as closures over (`?THIS`, ctx): what reading a value means (a
   `Read`: `constant`, `variable`, `alias_id`, `field_of`, `attribute`, `this_id`,
   `this_field`), what a call means (`invoke`, `call`) and what a comparison means (`compare_op`
-  of runtime/commands.py, and `comparison`, with the one fast path of `?THIS>&f OP number`).
+  of runtime/commands.py, and `comparison`, with the one fast path of `?THIS>&f OP number` as
+  its `test`: a test of a CLASS assignment, run once per candidate).
   The VM (vm.py) builds its steps and its searches' checks from these, so the two executors
   cannot mean different things.
 - `evaluate(condition, ctx)`: the condition as IR, compiled once to those parts
@@ -39,14 +40,17 @@ import math
 import operator
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
 from scriptc.ir import nodes as ir
 from scriptc.ir.walk import ConditionVisitor
 from scriptc.runtime.bindings import Bindings
-from scriptc.runtime.commands import Value, compare_op
-from scriptc.runtime.functions import CallContext, FunctionError, Implementations
+from scriptc.runtime.commands import Value, compare_op, to_text
+from scriptc.runtime.functions import CallContext, CallResult, FunctionError, Implementations
 from scriptc.runtime.world import Entity, World
+
+if TYPE_CHECKING:
+    from scriptc.runtime.goals import Goals
 
 
 @dataclass(slots=True)
@@ -65,11 +69,11 @@ class EvalContext:
     bindings belong to it. `on_error(message)` is called when a function fails at run time.
     """
 
-    __slots__ = ("world", "bindings", "functions", "goals", "now", "owner", "made",
-                 "on_error")
+    __slots__ = ("bindings", "functions", "goals", "made", "now", "on_error", "owner", "world")
 
     def __init__(self, world: World, bindings: Bindings, functions: Implementations,
-                 goals=None, on_error=None) -> None:
+                 goals: Goals | None = None,
+                 on_error: Callable[[str], None] | None = None) -> None:
         self.world = world
         self.bindings = bindings
         self.functions = functions
@@ -146,18 +150,21 @@ class EvalContext:
                 return True
         return False
 
-    def assign_var(self, name: str, value: str | None, scope: str) -> bool:
-        """A VAR assignment with its F function's result (None: the assignment fails)."""
+    def assign_var(self, name: str, value: Value, scope: str) -> bool:
+        """A VAR assignment with its F function's result (None: the assignment fails). A VAR
+        holds a text: another value (a number a bytecode program pushed) is stored as its
+        text (`to_text`)."""
         if value is None:
             return False
-        self.set_var(name, value, scope)
+        self.set_var(name, to_text(value), scope)
         return True
 
-    def assign_att(self, alias: str, name: str, value: str | None, scope: str) -> bool:
-        """An ATT assignment: fails when the alias is not bound or there is no value."""
+    def assign_att(self, alias: str, name: str, value: Value, scope: str) -> bool:
+        """An ATT assignment: fails when the alias is not bound or there is no value; the value
+        is stored as text, as a VAR's is."""
         if value is None or self.bindings.lookup(alias) is None:
             return False
-        self.set_att(alias, name, value, scope)
+        self.set_att(alias, name, to_text(value), scope)
         return True
 
     # -- VAR and ATT ------------------------------------------------------------------------
@@ -178,7 +185,8 @@ class EvalContext:
 
     # -- functions and comparisons ------------------------------------------------------------
 
-    def call(self, name: str, kind: str, args: list[Value], this: Entity | None = None):
+    def call(self, name: str, kind: str, args: list[Value], this: Entity | None = None
+             ) -> CallResult:
         """A B/E function's truth value, or an F function's text (None: no value). A function
         that fails is reported through `on_error` and counts as false / no value."""
         try:
@@ -201,20 +209,28 @@ class EvalContext:
 # one thing whatever form the script has.
 #
 # A part runs as `get(this, ctx)`: `this` is the candidate of a CLASS assignment's tests
-# (`?THIS`), None elsewhere.
+# (`?THIS`), None elsewhere. A test (`Check`) runs only on a candidate, and only its truth
+# counts.
 
 Getter = Callable[["Entity | None", EvalContext], Value]
-Check = Callable[["Entity | None", EvalContext], bool]
+Check = Callable[[Entity, EvalContext], object]
 
 
 class Read(NamedTuple):
     """A value of a condition: `get(this, ctx)` reads it. `this_field` names the field when it
     reads a field of `?THIS`, `constant` holds the number when it is a finite number constant:
-    what the fast comparison (`comparison`) needs to know."""
+    what the fast comparison (`comparison`) needs to know. `test`, when there is one, is the
+    same value as a test of a candidate, in a faster form (`test_of`)."""
 
     get: Getter
     this_field: str | None = None
     constant: float | None = None
+    test: Check | None = None
+
+
+def test_of(read: Read) -> Check:
+    """A value as a test of a CLASS assignment: its `test` when it has one, else `get`."""
+    return read.get if read.test is None else read.test
 
 
 def constant(value: Value) -> Read:
@@ -280,31 +296,33 @@ def call(name: str, kind: str, args: Sequence[Read]) -> Read:
                                          this))
 
 
-_FAST_OPS = {"OP<": operator.lt, "OP>": operator.gt, "OP=": operator.eq}
+_FAST_OPS: dict[str, Callable[[float, float], bool]] = {
+    "OP<": operator.lt, "OP>": operator.gt, "OP=": operator.eq}
 
 
 def comparison(op: str, left: Read, right: Read) -> Read:
     """Whether `left OPop right` holds (`compare_op`: as numbers when both are numbers, else as
     texts; false when either is missing). `?THIS>&field OP number`, the common test, runs once
-    per candidate entity (1,000 entities must cost well under a millisecond): a finite numeric
-    field is compared with the number directly, which is what `compare_op` does for two
-    numbers (an infinity or NaN is no number to it: it compares their texts)."""
+    per candidate entity (1,000 entities must cost well under a millisecond): as a test
+    (`test_of`), a finite numeric field is compared with the number directly, which is what
+    `compare_op` does for two numbers (an infinity or NaN is no number to it: it compares their
+    texts)."""
+    lget, rget = left.get, right.get
+    read = Read(lambda this, ctx: compare_op(op, lget(this, ctx), rget(this, ctx)))
     if left.this_field is not None and right.constant is not None and op in _FAST_OPS:
         fast, name, number = _FAST_OPS[op], left.this_field, right.constant
 
-        def check(this: Entity, ctx: EvalContext) -> bool:  # a test: `this` is a candidate
+        def check(this: Entity, ctx: EvalContext) -> bool:
             v = this.fields.get(name)
-            kind = type(v)
-            if kind is float:
+            if type(v) is float:
                 if v - v == 0:  # finite: compared as numbers
                     return fast(v, number)
-            elif kind is int:
+            elif type(v) is int:
                 return fast(v, number)
             return v is not None and compare_op(op, v, number)
 
-        return Read(check)
-    lget, rget = left.get, right.get
-    return Read(lambda this, ctx: compare_op(op, lget(this, ctx), rget(this, ctx)))
+        return read._replace(test=check)
+    return read
 
 
 # ---------------------------------------------------------------------------------------------
@@ -345,8 +363,8 @@ class _Compiler(ConditionVisitor):
         return _call_of(test.call).get
 
     def visit_field_test(self, test: ir.FieldTest) -> Check:
-        return comparison(test.op.text, this_field(_bare(test.field.text, "&")),
-                          read_of(test.value)).get
+        return test_of(comparison(test.op.text, this_field(_bare(test.field.text, "&")),
+                                  read_of(test.value)))
 
     def visit_class_assignment(self, asg: ir.ClassAssignment) -> Step:
         checks = tuple(check_of(t) for t in asg.tests)
@@ -370,7 +388,8 @@ _compile = _Compiler().visit
 
 def read_of(value: ir.Value) -> Read:
     """An argument or the right side of a test."""
-    return _compile(value)
+    read: Read = _compile(value)
+    return read
 
 
 def _call_of(node: ir.Call) -> Read:
@@ -379,7 +398,8 @@ def _call_of(node: ir.Call) -> Read:
 
 def check_of(test: ir.Test) -> Check:
     """A test of a CLASS assignment as a check over (`?THIS`, ctx)."""
-    return _compile(test)
+    check: Check = _compile(test)
+    return check
 
 
 def compile_condition(condition: ir.Condition) -> Step:
@@ -387,22 +407,27 @@ def compile_condition(condition: ir.Condition) -> Step:
     the bindings it made are the context's)."""
     if condition.bare_true:
         return lambda ctx: True
-    steps = [_compile(a) for a in condition.assignments]
+    steps: list[Step] = [_compile(a) for a in condition.assignments]
     for ev in condition.evaluations:
         if isinstance(ev, ir.TrueEvaluation):
             break  # true at once: what follows is never evaluated
-        get = _call_of(ev.call).get
-        steps.append(lambda ctx, get=get: get(None, ctx))
+        steps.append(_evaluation(_call_of(ev.call).get))
     if len(steps) == 1:
         return steps[0]
 
     def run(ctx: EvalContext) -> bool:
-        for step in steps:
+        for step in steps:  # noqa: SIM110 - a loop: `all` over a generator costs more per pass
             if not step(ctx):
                 return False
         return True
 
     return run
+
+
+def _evaluation(get: Getter) -> Step:
+    """An E function's call as a step of a condition: its truth value (a bool already, from
+    `invoke`, for an E function; the condition's value is a truth value whatever it gives)."""
+    return lambda ctx: bool(get(None, ctx))
 
 
 # Compiled conditions by the identity of the IR node (kept alive here, so an id is never

@@ -30,11 +30,12 @@ instruction block (a jump cycle that lets no time pass, F002).
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Protocol, Union
+from typing import Generic, Protocol, TypeVar
 
-from scriptc.runtime.evaluate import EvalContext, Evaluation
 from scriptc.runtime.commands import BlockCommands, Position, RuleMessage
+from scriptc.runtime.evaluate import EvalContext, Evaluation
 
 
 @dataclass(frozen=True, slots=True)
@@ -54,7 +55,7 @@ class End:
     how: str
 
 
-ReadResult = Union[Issue, End]
+ReadResult = Issue | End
 
 
 class SeekError(ValueError):
@@ -92,11 +93,34 @@ class Executor(Protocol):
     def read(self, ctx: EvalContext, sink: ReadSink, max_blocks: int = ...) -> ReadResult: ...
 
 
-class ExecutorBase:
+class Program(Protocol):
+    """What `ExecutorBase` reads of a program (an `IRProgram`, a `VMProgram`): the script's
+    name, messages and goal ids, and the index of each block by its position."""
+
+    @property
+    def name(self) -> str: ...
+
+    @property
+    def alfa(self) -> tuple[RuleMessage, ...]: ...
+
+    @property
+    def omega(self) -> tuple[RuleMessage, ...]: ...
+
+    @property
+    def goal_ids(self) -> tuple[str, ...]: ...
+
+    @property
+    def index(self) -> Mapping[tuple[int, int, int], int]: ...
+
+
+P = TypeVar("P", bound=Program)
+
+
+class ExecutorBase(Generic[P]):
     """What both executors share: the script's name, messages and goal ids from its program,
     the position, and finding a block by position (`program.index`) for `seek`."""
 
-    def __init__(self, program) -> None:
+    def __init__(self, program: P) -> None:
         self.program = program
         self.name = program.name
         self.alfa = program.alfa
@@ -105,9 +129,9 @@ class ExecutorBase:
         self.position: Position | None = None
 
     def _index_of(self, position: Position) -> int:
-        i = self.program.index.get(tuple(position))
+        i = self.program.index.get(position)
         if i is None:
-            raise SeekError(f"`{self.name}` has no block {Position(*position).path}")
+            raise SeekError(f"`{self.name}` has no block {position.path}")
         return i
 
 

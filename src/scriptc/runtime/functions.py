@@ -20,22 +20,36 @@ makes the VAR/ATT assignment fail). A repository declares its functions in its c
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from scriptc.ir.builtins import STANDARD_FUNCTIONS, Function, FunctionRegistry, Param
 from scriptc.language import FUNCTION_KINDS, name_problem
+from scriptc.runtime.bindings import Bindings
 from scriptc.runtime.commands import Value, as_number, compare, to_text
 from scriptc.runtime.world import Entity, World
+
+if TYPE_CHECKING:
+    from scriptc.runtime.goals import Goals
+
+# A function's Python, `fn(call, *args)`: the standard ones below, or an activity's own (any
+# callable its configuration names). Its arguments are `Value`s; what it returns is checked
+# by `Implementations.call` (a truth value, or a text, a number or None), so it is typed at
+# this boundary as foreign code is.
+FunctionBody = Callable[..., Any]
+
+# What a call gives: a B/E function's truth value, an F function's text (None: no value).
+CallResult = bool | str | None
 
 
 class CallContext:
     """What a function sees besides its arguments."""
 
-    __slots__ = ("world", "now", "this", "bindings", "goals")
+    __slots__ = ("bindings", "goals", "now", "this", "world")
 
-    def __init__(self, world: World, now: int, this: Entity | None, bindings, goals) -> None:
+    def __init__(self, world: World, now: int, this: Entity | None, bindings: Bindings,
+                 goals: Goals | None) -> None:
         self.world = world
         self.now = now
         self.this = this  # the candidate entity of a CLASS assignment (B functions)
@@ -55,7 +69,7 @@ class FunctionImpl:
     name: str
     kind: str
     arity: int
-    fn: Callable[..., Any]
+    fn: FunctionBody
     doc: str = ""
     params: tuple[str, ...] = ()
     origin: str = "standard"
@@ -80,7 +94,7 @@ class Implementations:
         for impl in impls:
             self._by_name[impl.name] = impl
 
-    def register(self, name: str, kind: str, arity: int, fn: Callable[..., Any], doc: str = "",
+    def register(self, name: str, kind: str, arity: int, fn: FunctionBody, doc: str = "",
                  params: tuple[str, ...] = (), origin: str = "user") -> FunctionImpl:
         """Add (or replace) a function. `fn(call, *args)`; see the module's docstring."""
         if kind not in FUNCTION_KINDS:
@@ -98,7 +112,7 @@ class Implementations:
     def get(self, name: str) -> FunctionImpl | None:
         return self._by_name.get(name)
 
-    def __iter__(self):
+    def __iter__(self) -> Iterator[FunctionImpl]:
         return iter(self._by_name.values())
 
     def extended(self, impls: Iterable[FunctionImpl] = ()) -> Implementations:
@@ -109,8 +123,10 @@ class Implementations:
         """The signatures, for `check_script(..., functions=...)`."""
         return FunctionRegistry(impl.signature() for impl in self._by_name.values())
 
-    def call(self, name: str, kind: str, args: list[Value], call: CallContext) -> Any:
-        """Run a function; raises FunctionError when it cannot (see the class)."""
+    def call(self, name: str, kind: str, args: list[Value], call: CallContext) -> CallResult:
+        """Run a function; raises FunctionError when it cannot (see the class), or when what it
+        gives is no value of its kind: an F function's result is a text, a number (as text)
+        or None, a B or E function's anything with a truth value."""
         impl = self._by_name.get(name)
         if impl is None:
             raise FunctionError(f"no function `{name}` is registered")
@@ -120,11 +136,16 @@ class Implementations:
             raise FunctionError(f"`{name}` takes {impl.arity} argument(s), given {len(args)}")
         try:
             result = impl.fn(call, *args)
-        except Exception as exc:  # noqa: BLE001 - a user's function must not stop the robot
+            if kind != "F":
+                return bool(result)  # a truth value that raises is the function's failure
+        except Exception as exc:  # a user's function must not stop the robot
             raise FunctionError(f"`{name}` raised {type(exc).__name__}: {exc}") from exc
-        if kind == "F":
-            return result if result is None or isinstance(result, str) else to_text(result)
-        return bool(result)
+        if result is None or isinstance(result, str):
+            return result
+        if isinstance(result, (int, float)):
+            return to_text(result)
+        raise FunctionError(f"`{name}` returned {type(result).__name__}, not a text or a "
+                            "number")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -158,7 +179,7 @@ def _now(call: CallContext) -> str:
     return str(call.now)
 
 
-_STANDARD_CALLABLES: dict[str, Callable[..., Any]] = {
+_STANDARD_CALLABLES: dict[str, FunctionBody] = {
     "eq": _cmp(lambda c: c == 0),
     "neq": _cmp(lambda c: c != 0),
     "lt": _cmp(lambda c: c < 0),

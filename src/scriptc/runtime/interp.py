@@ -20,9 +20,9 @@ import math
 
 from scriptc.ir import nodes as ir
 from scriptc.runtime.bindings import READER
+from scriptc.runtime.commands import Audio, BlockCommands, Led, Move, Position, RuleMessage
 from scriptc.runtime.evaluate import EvalContext, evaluate
 from scriptc.runtime.executor import End, ExecutorBase, Issue, ReadLimit, ReadResult, ReadSink
-from scriptc.runtime.commands import Audio, BlockCommands, Led, Move, Position, RuleMessage
 
 MAX_BLOCKS_PER_READ = 100_000
 
@@ -42,7 +42,7 @@ def _ms(number: ir.Number) -> int:
     value = number.value
     if value is None or not math.isfinite(value) or value < 0:
         return 0
-    return int(round(value))
+    return round(value)
 
 
 def instruction_of(block: ir.InstructionBlock) -> BlockCommands:
@@ -93,7 +93,7 @@ class IRProgram:
         return IRExecutor(self)
 
 
-class IRExecutor(ExecutorBase):
+class IRExecutor(ExecutorBase[IRProgram]):
     """Block reading over the IR (the `Executor` interface)."""
 
     def __init__(self, program: IRProgram) -> None:

@@ -13,6 +13,11 @@ from typing import Any
 
 from scriptc.numbers import json_dumps
 
+# One event of the trace: `t`, `event` and the kind's fields. The values are JSON data (texts,
+# numbers, booleans, None, and lists and dicts of them: a jsonmsg's record, bindings, a
+# command), so they are typed at this boundary as JSON is, not per kind.
+Event = dict[str, Any]
+
 # Every kind of event, in the order docs/runtime.md presents them.
 EVENT_KINDS = (
     "session_start", "script_load", "script_unload", "rule", "mutex", "block", "cmd_start",
@@ -21,7 +26,7 @@ EVENT_KINDS = (
 )
 
 
-def dumps(event: dict) -> str:
+def dumps(event: Event) -> str:
     return json_dumps(event, ensure_ascii=False, separators=(",", ":"))
 
 
@@ -31,8 +36,8 @@ class Trace:
 
     def __init__(self, enabled: bool = True) -> None:
         self.enabled = enabled
-        self.events: list[dict] = []
-        self.errors: list[dict] = []
+        self.events: list[Event] = []
+        self.errors: list[Event] = []
         self.count = 0
 
     def emit(self, t: int, event: str, **fields: Any) -> None:
@@ -42,7 +47,7 @@ class Trace:
         if self.enabled:
             self.events.append({"t": t, "event": event, **fields})
 
-    def of_kind(self, *kinds: str) -> list[dict]:
+    def of_kind(self, *kinds: str) -> list[Event]:
         return [e for e in self.events if e["event"] in kinds]
 
     def text(self) -> str:

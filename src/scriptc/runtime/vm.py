@@ -51,11 +51,11 @@ How it runs (the registers of docs/bytecode.md):
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from typing import Any, overload
 
 from scriptc.bytecode.code import Instruction
 from scriptc.bytecode.opcodes import BY_CODE, BY_NAME, KINDS
-from scriptc.bytecode.program import Num
-from scriptc.bytecode.program import Program as Bytecode
+from scriptc.bytecode.program import Message, Num
 from scriptc.bytecode.verify import Verified
 from scriptc.runtime.bindings import READER
 from scriptc.runtime.commands import (
@@ -65,6 +65,7 @@ from scriptc.runtime.commands import (
     Move,
     Position,
     RuleMessage,
+    Value,
     compare_op,
 )
 from scriptc.runtime.evaluate import (
@@ -78,6 +79,7 @@ from scriptc.runtime.evaluate import (
     constant,
     field_of,
     invoke,
+    test_of,
     this_field,
     this_id,
     variable,
@@ -85,7 +87,7 @@ from scriptc.runtime.evaluate import (
 from scriptc.runtime.executor import End, ExecutorBase, Issue, ReadLimit, ReadResult, ReadSink
 from scriptc.runtime.world import Entity
 
-__all__ = ["VMProgram", "VMExecutor", "VMTrap", "program_from_bytecode"]
+__all__ = ["VMExecutor", "VMProgram", "VMTrap", "program_from_bytecode"]
 
 MAX_BLOCKS_PER_READ = 100_000
 
@@ -139,17 +141,22 @@ if set(_KIND_VALUE) != set(KINDS):
 # ---------------------------------------------------------------------------------------------
 # Steps: what each instruction does, `(code, arguments...)`
 
+# A step is a plain tuple, indexed in the block reader's loop (the fastest form in Python);
+# what follows its code depends on the code (`_STEPS` says what, per opcode, and the verifier
+# has proved the operands), so its items are typed by that table, not one by one.
+_Step = tuple[Any, ...]
+
 (_PUSH, _CALL, _BRANCH, _COMPARE, _FIND, _ASSIGN, _BOUND, _COND, _EXIT, _ISSUE, _SENSE, _END,
  _NEXT_CANDIDATE, _BIND, _COMMAND, _PAYLOAD) = range(16)
 
 
-def _push(read: Read) -> tuple:
+def _push(read: Read) -> _Step:
     return (_PUSH, read.get, read)
 
 
 # Per mnemonic, the step of an instruction from its operands' values (in table order). Move,
 # Led and Audio take their fields in the order of MOVE's, LED's and AUDIO's operands.
-_STEPS: dict[str, Callable[..., tuple]] = {
+_STEPS: dict[str, Callable[..., _Step]] = {
     "MOVE": lambda *values: (_COMMAND, 0, Move(*values)),
     "LED": lambda *values: (_COMMAND, 1, Led(*values)),
     "AUDIO": lambda *values: (_COMMAND, 2, Audio(*values)),
@@ -186,32 +193,34 @@ if set(_STEPS) != set(BY_NAME):
 
 # Per opcode number: the value readers of its operands, and its step.
 _DECODE: dict[int, tuple[tuple[Callable[[_Operands, int], object], ...],
-                         Callable[..., tuple]]] = {
+                         Callable[..., _Step]]] = {
     op.code: (tuple(_KIND_VALUE[o.kind.name] for o in op.operands), _STEPS[op.name])
     for op in BY_CODE.values()
 }
 
 
 class _Block:
-    __slots__ = ("kind", "label", "steps", "offsets", "entry", "searches", "condition")
+    __slots__ = ("condition", "entry", "kind", "label", "offsets", "searches", "steps")
 
     def __init__(self, kind: str, label: str) -> None:
         self.kind = kind
         self.label = label
-        self.steps: list[tuple] = []
+        self.steps: list[_Step] = []
         self.offsets: list[int] = []  # code offset of each instruction (for spans)
         self.entry = 0  # the step reading starts at
         self.searches: dict[int, tuple[Check, ...]] = {}  # FIND index -> compiled tests
         self.condition = ""
 
 
-def _steps(listing: Sequence[Instruction], operands: _Operands) -> list[tuple]:
+def _steps(listing: Sequence[Instruction], operands: _Operands) -> list[_Step]:
     """The steps of a block's instructions: each operand read by its kind, then the opcode's
     step built from the values."""
     steps = []
     for ins in listing:
         readers, step = _DECODE[ins.opcode.code]
-        steps.append(step(*[read(operands, raw) for read, raw in zip(readers, ins.operands)]))
+        # The verifier decoded each instruction's operands by the same table: one per reader.
+        steps.append(step(*[read(operands, raw)
+                            for read, raw in zip(readers, ins.operands, strict=True)]))
     return steps
 
 
@@ -220,7 +229,7 @@ def _gather(block: _Block) -> None:
     its payload) into the ISSUE or SENSE that takes them, and start reading there."""
     steps = block.steps
     k = 0
-    tracks: tuple[list, list, list] = ([], [], [])
+    tracks: tuple[list[Move], list[Led], list[Audio]] = ([], [], [])
     payload: list[str] = []
     while k < len(steps) and steps[k][0] in (_COMMAND, _PAYLOAD):
         if steps[k][0] == _COMMAND:
@@ -229,14 +238,14 @@ def _gather(block: _Block) -> None:
             payload.append(steps[k][1])
         k += 1
     if k < len(steps) and steps[k][0] == _ISSUE and not payload:
-        steps[k] = (_ISSUE, BlockCommands(*map(tuple, tracks)))
+        steps[k] = (_ISSUE, BlockCommands(tuple(tracks[0]), tuple(tracks[1]), tuple(tracks[2])))
         block.entry = k
     elif k < len(steps) and steps[k][0] == _SENSE and not any(tracks):
         steps[k] = (_SENSE, tuple(payload))
         block.entry = k
 
 
-def _compile_tests(steps: list[tuple], start: int, bind: int) -> tuple[Check, ...] | None:
+def _compile_tests(steps: list[_Step], start: int, bind: int) -> tuple[Check, ...] | None:
     """The tests of a search (steps `start` .. `bind`, after its NEXT_CANDIDATE) as the checks
     evaluate.py builds, in order; None when they are not pushes, comparisons and calls, each
     test closed by a JUMP_IF_FALSE with nothing left under it (what the verifier allows in a
@@ -257,7 +266,7 @@ def _compile_tests(steps: list[tuple], start: int, bind: int) -> tuple[Check, ..
             del stack[at:]
             stack.append(call(step[1], step[2], args))
         elif code == _BRANCH and len(stack) == 1:
-            checks.append(stack.pop().get)
+            checks.append(test_of(stack.pop()))
         else:
             return None
     return tuple(checks) if not stack else None
@@ -281,10 +290,11 @@ class VMProgram:
         self.omega = tuple(self._message("omega", m) for m in bytecode.omega)
         self.goal_ids = tuple(text(g.id) for g in bytecode.goals)
         self.positions = [Position(*a) for a in bytecode.addresses()]
-        self.index = {tuple(p): i for i, p in enumerate(self.positions)}
+        self.index: dict[tuple[int, int, int], int] = {
+            p: i for i, p in enumerate(self.positions)}
         self.blocks = [self._block(i, listing) for i, listing in enumerate(verified.instructions)]
 
-    def _message(self, kind: str, m) -> RuleMessage:
+    def _message(self, kind: str, m: Message) -> RuleMessage:
         text = self.bytecode.text
         return RuleMessage(kind, m.rulecode, text(m.id), text(m.intopic), text(m.outtopic),
                            m.action, m.mutex)
@@ -339,7 +349,7 @@ def program_from_bytecode(program: Verified, path: str = "") -> VMProgram:
 # The executor
 
 
-class VMExecutor(ExecutorBase):
+class VMExecutor(ExecutorBase[VMProgram]):
     """Block reading over verified bytecode (the `Executor` interface)."""
 
     def __init__(self, program: VMProgram) -> None:
@@ -367,7 +377,7 @@ class VMExecutor(ExecutorBase):
             # Resume after an ISSUE: the rest of that block (its NEXT_BLOCK).
             pc, self._pc = self._pc, None
             result = self._run(i, pc, ctx, sink)
-            if type(result) is not int:
+            if not isinstance(result, int):
                 return result
             i = result
         for _ in range(max_blocks):
@@ -378,7 +388,7 @@ class VMExecutor(ExecutorBase):
             self.position = position
             sink.visit(position)
             result = self._run(i, blocks[i].entry, ctx, sink)
-            if type(result) is int:
+            if isinstance(result, int):
                 i = result
                 continue
             return result
@@ -386,15 +396,23 @@ class VMExecutor(ExecutorBase):
         raise ReadLimit(f"`{self.name}` read {max_blocks} blocks without reaching an "
                         "instruction block or its end (a jump cycle lets no time pass)")
 
-    def _run(self, i: int, pc: int, ctx: EvalContext, sink: ReadSink | None,
-             this: Entity | None = None):
+    @overload
+    def _run(self, i: int, pc: int, ctx: EvalContext, sink: ReadSink,
+             this: None = None) -> int | ReadResult: ...
+
+    @overload
+    def _run(self, i: int, pc: int, ctx: EvalContext, sink: ReadSink,
+             this: Entity) -> bool: ...
+
+    def _run(self, i: int, pc: int, ctx: EvalContext, sink: ReadSink,
+             this: Entity | None = None) -> int | ReadResult | bool:
         """Run block i's steps from `pc` until control leaves the block: the next block's
         index, an Issue or an End. With a candidate (`this`), run a search's tests from after
         its NEXT_CANDIDATE instead: True when they reach the BIND, False when one sends the
         candidate back to NEXT_CANDIDATE."""
         block = self.program.blocks[i]
         steps = block.steps
-        stack: list = []
+        stack: list[Value] = []
         fail = -1  # the failure handler, once COND has set it
         try:
             while True:
@@ -420,7 +438,7 @@ class VMExecutor(ExecutorBase):
                     right = stack.pop()
                     stack.append(compare_op(step[1], stack.pop(), right))
                 elif code == _FIND:
-                    if not self._search(i, pc, step, ctx):
+                    if not self._search(i, pc, step, ctx, sink):
                         stack.clear()
                         pc = fail
                         continue
@@ -465,12 +483,13 @@ class VMExecutor(ExecutorBase):
                 pc += 1
         except (ReadLimit, VMTrap):
             raise
-        except Exception as exc:  # noqa: BLE001 - a trap, never a crash of the session
+        except Exception as exc:  # a trap, never a crash of the session
             raise VMTrap(f"{self.program.where(i, pc)}: "
                          f"{type(exc).__name__}: {exc}") from exc
 
-    def _search(self, i: int, at: int, step: tuple, ctx: EvalContext) -> bool:
-        """The search the FIND step `at` of block i starts, as one `assign_class` call."""
+    def _search(self, i: int, at: int, step: _Step, ctx: EvalContext, sink: ReadSink) -> bool:
+        """The search the FIND step `at` of block i starts, as one `assign_class` call (its
+        tests, run step by step, read with the same sink: they never reach an exit)."""
         _code, cls, alias, scope, _bind = step
         if cls not in ctx.world.classes:
             # Codegen writes only the classes of the map; a program that names another is
@@ -481,7 +500,7 @@ class VMExecutor(ExecutorBase):
             start = at + 2  # after the NEXT_CANDIDATE
 
             def tests(entity: Entity, ctx: EvalContext) -> bool:
-                return self._run(i, start, ctx, None, entity)
+                return self._run(i, start, ctx, sink, entity)
 
             checks = (tests,)
         return ctx.assign_class(alias, cls, scope, checks)

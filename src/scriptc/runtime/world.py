@@ -29,15 +29,22 @@ import difflib
 import json
 import re
 from collections import deque
+from collections.abc import Collection, Iterable
 from dataclasses import dataclass, field
 from typing import Any
 
+from scriptc.frontend.jsonpos import JsonError, JsonNode, parse_json
 from scriptc.numbers import number_problem, whole_number
 from scriptc.runtime.commands import BlockCommands
 from scriptc.source import Span
-from scriptc.frontend.jsonpos import JsonError, JsonNode, parse_json
 
 _WHOLE = re.compile(r"[+-]?[0-9]+")
+
+# What the map holds: a jsonmsg as `_type_ok` converted it (a value of the attribute's kind, a
+# record of them, or for `audioin` any JSON), read by conditions, rules and functions as the
+# tables below say it is. It comes from JSON, and is typed at this boundary as JSON is.
+JSONValue = Any
+Record = dict[str, JSONValue]
 
 HISTORY = 100  # length of the circular registers of append-only attributes
 
@@ -51,7 +58,7 @@ _GOAL = {"goalid": "text", "timestamp": "int", "activity": "text"}
 
 # class -> attribute -> (policies allowed, kind); kind is "bool", "int", "text", or a record
 # shape (dict). Tables 4.1 and 4.2 of the thesis.
-ATTRIBUTES: dict[str, dict[str, tuple[str, Any]]] = {
+ATTRIBUTES: dict[str, dict[str, tuple[str, str | dict[str, str]]]] = {
     "Camera": {"isonline": ("R", "bool"), "width": ("R", "int"), "height": ("R", "int"),
                "fps": ("R", "int")},
     "Sonar": {"isonline": ("R", "bool"), "scanfrequency": ("R", "int")},
@@ -104,7 +111,7 @@ class UpdateError(ValueError):
 JSONMSG_DEPTH = 32
 
 
-def _shown(value: Any) -> str:
+def _shown(value: JSONValue) -> str:
     """A value for a message, as JSON (a number beyond the policy is said to be one)."""
     if isinstance(value, (int, float)) and number_problem(value) is not None:
         return "a number beyond a double's range" if isinstance(value, int) else repr(value)
@@ -114,7 +121,7 @@ def _shown(value: Any) -> str:
         return repr(type(value).__name__)
 
 
-def _choices(word: str, known) -> str:
+def _choices(word: str, known: Collection[str]) -> str:
     """`(did you mean `x`?)` or `(one of `a`, `b`)`: the end of a message about a name."""
     close = difflib.get_close_matches(word, list(known), n=1, cutoff=0.6)
     if close:
@@ -130,16 +137,16 @@ class MapUpdate:
     objectid: str
     attributename: str
     policy: str
-    value: Any
+    value: JSONValue
     cls: str
     id: str
 
-    def as_dict(self) -> dict:
+    def as_dict(self) -> Record:
         return {"objectid": self.objectid, "attributename": self.attributename,
                 "policy": self.policy, "value": self.value}
 
 
-def _type_ok(kind: str, value: Any) -> Any:
+def _type_ok(kind: str, value: JSONValue) -> JSONValue:
     """The value converted to `kind`, or raises ValueError with what was expected. Numbers
     go through the number policy (scriptc.numbers) first: finite, within a double's range."""
     if kind == "any":
@@ -202,7 +209,8 @@ def split_objectid(objectid: str) -> tuple[str, str]:
     return cls, ident
 
 
-def parse_update(objectid: str, attributename: str, policy: str, jsonmsg: Any) -> MapUpdate:
+def parse_update(objectid: str, attributename: str, policy: str, jsonmsg: JSONValue
+                 ) -> MapUpdate:
     """A MapUpdate checked against tables 4.1/4.2. `jsonmsg` is the message's text (JSON text
     for the record attributes, read as every JSON of scriptc is: `scriptc.frontend.jsonpos`,
     the number policy, at most JSONMSG_DEPTH levels deep) or an already-parsed JSON value.
@@ -231,7 +239,7 @@ def parse_update(objectid: str, attributename: str, policy: str, jsonmsg: Any) -
         if not isinstance(value, dict):
             raise UpdateError(f"jsonmsg of `{attributename}` must be an object with "
                               f"{', '.join(f'`{k}`' for k in kind)}")
-        record = {}
+        record: Record = {}
         for key, item in value.items():
             member = node.member(key) if node is not None else None
             key_kind = kind.get(key)
@@ -265,7 +273,7 @@ class Entity:
     latest value of each field (`id` is fixed at creation); `history` the append-only
     registers."""
 
-    __slots__ = ("cls", "id", "key", "seq", "created_at", "fields", "history")
+    __slots__ = ("cls", "created_at", "fields", "history", "id", "key", "seq")
 
     def __init__(self, cls: str, ident: str, seq: int, created_at: int) -> None:
         self.cls = cls
@@ -273,8 +281,8 @@ class Entity:
         self.key = f"{cls}/{ident}"
         self.seq = seq
         self.created_at = created_at
-        self.fields: dict[str, Any] = {"id": ident}
-        self.history: dict[str, deque] = {}
+        self.fields: Record = {"id": ident}
+        self.history: dict[str, deque[Record]] = {}
 
     @property
     def age_key(self) -> tuple[int, int]:
@@ -325,10 +333,10 @@ class RobotStatus:
     __slots__ = ("fields", "history")
 
     def __init__(self) -> None:
-        self.fields: dict[str, Any] = {}
-        self.history: dict[str, deque] = {}
+        self.fields: Record = {}
+        self.history: dict[str, deque[JSONValue]] = {}
 
-    def append(self, attribute: str, record: dict) -> None:
+    def append(self, attribute: str, record: JSONValue) -> None:
         register = self.history.get(attribute)
         if register is None:
             register = self.history[attribute] = deque(maxlen=HISTORY)
@@ -372,7 +380,7 @@ class World:
                                                     key=lambda e: e.age_key))
         return order
 
-    def set_field(self, entity: Entity, name: str, value: Any) -> None:
+    def set_field(self, entity: Entity, name: str, value: JSONValue) -> None:
         if name == "appearanceon" and entity.fields.get(name) != value:
             self._order.pop(entity.cls, None)
         entity.fields[name] = value
@@ -441,17 +449,16 @@ class World:
 
     # -- what rules and functions read --------------------------------------------------------
 
-    def goal_records(self, kind: str):
+    def goal_records(self, kind: str) -> Iterable[Record]:
         """The register of `goalreached`, `goalinterrupted` or `goalfailed` records."""
         return self.robot.history.get(kind, ())
 
-    def snapshot(self) -> dict:
+    def snapshot(self) -> dict[str, dict[str, JSONValue]]:
         """A plain summary of the map (for `--json` and debugging): entities and their fields."""
-        out: dict[str, Any] = {}
+        out: dict[str, dict[str, JSONValue]] = {}
         for cls, table in self.classes.items():
             if table:
-                out[cls] = {e.id: {k: (v if not isinstance(v, float) else v)
-                                   for k, v in e.fields.items()} for e in self.candidates(cls)}
-        out["RobotStatus"] = {k: v for k, v in self.robot.fields.items()}
+                out[cls] = {e.id: dict(e.fields) for e in self.candidates(cls)}
+        out["RobotStatus"] = dict(self.robot.fields)
         return out
 

@@ -84,7 +84,7 @@ class MujocoRobot:
         self.model = copy.copy(model if model is not None else load_model())
         self.data = mujoco.MjData(self.model)
         steps = 0.001 / self.model.opt.timestep
-        self.steps_per_ms = int(round(steps))
+        self.steps_per_ms = round(steps)
         if self.steps_per_ms < 1 or abs(steps - self.steps_per_ms) > 1e-9:
             raise ValueError("the model's timestep must divide 1 ms")
         self._t = 0  # ms simulated so far
@@ -113,15 +113,14 @@ class MujocoRobot:
         self.data.ctrl[:] = 0.0
 
     def advance(self, t_ms: int) -> None:
-        while self._ramp is not None and self._t < t_ms:
-            self._ramp_batch(t_ms)
+        while (ramp := self._ramp) is not None and self._t < t_ms:
+            self._ramp_batch(ramp, t_ms)
         if t_ms > self._t:
             self._step(t_ms - self._t)
 
-    def _ramp_batch(self, t_ms: int) -> None:
+    def _ramp_batch(self, ramp: Ramp, t_ms: int) -> None:
         """Step the next milliseconds of the ramp over which ctrl is constant (up to t_ms):
         up to the next millisecond where an axis starts or ends its ramp."""
-        ramp = self._ramp
         a = self._t
         b = ramp.breaks(a, min(t_ms, ramp.end))[0]
         act, ctrl = self.data.act, [0.0, 0.0, 0.0]
@@ -161,6 +160,15 @@ class MujocoRobot:
         q = self.data.qpos
         return Pose(float(q[self._qx]), float(q[self._qy]), float(q[self._qyaw]))
 
+    def ghost(self) -> MujocoRobot:
+        """A copy that steps on its own (its own `MjData`, the model shared: a ghost never
+        writes the model's LED colours): where the robot will be at a later millisecond,
+        without stepping it. Stepping the robot itself to that millisecond would cut a ramp's
+        batch there, and its activation is written exactly at each cut."""
+        twin = copy.copy(self)
+        twin.data = copy.copy(self.data)
+        return twin
+
     # -- beyond the interface ---------------------------------------------------------------
 
     @property
@@ -174,7 +182,7 @@ class MujocoRobot:
 
     def set_led(self, rgb: tuple[float, float, float] | None) -> None:
         """Both LED strips show `rgb` (None: off); visible in the model's materials."""
-        for i, off in zip(self._leds, self._led_off):
+        for i, off in zip(self._leds, self._led_off, strict=True):  # one colour per strip
             self.model.mat_rgba[i] = off if rgb is None else (*rgb, 1.0)
 
     def led_rgba(self) -> tuple[float, ...]:
