@@ -101,7 +101,7 @@ def scripts(draw, max_blocks: int = 12):
     n_blocks = draw(st.integers(1, max_blocks))
     labels = [f"l{i}" for i in range(n_blocks)]
     labelled = [draw(st.booleans()) for _ in range(n_blocks)]
-    targets = [lbl for lbl, has in zip(labels, labelled) if has]
+    targets = [lbl for lbl, has in zip(labels, labelled, strict=True) if has]
     lines = [f"[{draw(NAMES)}]"]
     rules = draw(st.lists(NAMES, max_size=3, unique=True))
     for i, rule in enumerate(rules):

@@ -14,6 +14,7 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 
+from scriptc.analysis.analyze import analyze_script
 from scriptc.api import (
     Activity,
     BuildError,
@@ -28,7 +29,6 @@ from scriptc.api import (
 )
 from scriptc.bytecode.decode import decode
 from scriptc.cli.main import cli
-from scriptc.analysis.analyze import analyze_script
 from scriptc.ops.build import emit
 from scriptc.source import SourceFile
 
@@ -300,7 +300,7 @@ def test_build_text_equals_the_library():
 def test_the_generator_reproduces_the_thesis_dance_example(tmp_path):
     out = tmp_path / "out"
     result = subprocess.run([sys.executable, str(GENERATOR), str(out), "--steps", "5",
-                             "--bytecode"], capture_output=True, text=True, timeout=60)
+                             "--bytecode"], capture_output=True, text=True, timeout=60, check=False)
     assert result.returncode == 0, result.stderr
     assert "F003" in result.stderr  # the thesis's file has no terminus: an info
     ours = json.loads((out / "dance_example.json").read_text(encoding="utf-8"))
@@ -324,7 +324,7 @@ def test_the_generator_reproduces_the_thesis_dance_example(tmp_path):
 def test_the_generator_refuses_a_step_count_it_cannot_dance(tmp_path, steps, message):
     out = tmp_path / "out"
     result = subprocess.run([sys.executable, str(GENERATOR), str(out), "--steps", steps],
-                            capture_output=True, text=True, timeout=60)
+                            capture_output=True, text=True, timeout=60, check=False)
     assert result.returncode == 2
     assert result.stderr.splitlines()[-1].endswith(f"error: argument --steps: {message}")
     assert "Traceback" not in result.stderr and not out.exists()
@@ -333,7 +333,7 @@ def test_the_generator_refuses_a_step_count_it_cannot_dance(tmp_path, steps, mes
 def test_the_generator_says_when_it_cannot_write(tmp_path):
     (tmp_path / "file").write_text("", encoding="utf-8")
     result = subprocess.run([sys.executable, str(GENERATOR), str(tmp_path / "file" / "out")],
-                            capture_output=True, text=True, timeout=60)
+                            capture_output=True, text=True, timeout=60, check=False)
     assert result.returncode == 2 and "Traceback" not in result.stderr
     assert result.stderr.startswith(f"error: cannot write in `{tmp_path / 'file' / 'out'}`: ")
 
@@ -388,9 +388,9 @@ def test_fill_takes_reserved_names_from_the_mapping():
 
 def _condition_texts():
     from hypothesis import strategies as st
+    from test_emit_script import CONDITION
 
     from scriptc.emit.condition import condition_text
-    from test_emit_script import CONDITION
 
     # The canonical text with its blanks widened (spaces, tabs, line breaks) as a caller may
     # write it: blanks are never removed, which could join two tokens, and strings are kept.

@@ -13,9 +13,9 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 
+from scriptc.analysis.analyze import analyze_file
 from scriptc.bytecode import decode, disassemble, load
 from scriptc.cli.main import cli
-from scriptc.analysis.analyze import analyze_file
 from scriptc.emit.codegen import codegen
 
 ROOT = Path(__file__).parent.parent
@@ -109,7 +109,7 @@ def test_dis_in_a_real_process_never_shows_a_traceback(folder: Path) -> None:
     (folder / "bad.scb").write_bytes(b"SCB\0" + bytes(40))
     env = {k: v for k, v in os.environ.items() if k not in ("FORCE_COLOR", "NO_COLOR")}
     done = subprocess.run([sys.executable, "-m", "scriptc", "dis", "bad.scb"],
-                          capture_output=True, text=True, cwd=folder, env=env, timeout=60)
+                          capture_output=True, text=True, cwd=folder, env=env, timeout=60, check=False)
     assert done.returncode == 1
     assert "Traceback" not in done.stderr
     assert done.stderr.startswith("error: bad.scb: malformed bytecode: ")
@@ -132,7 +132,7 @@ def test_dis_imports_no_parser(folder: Path) -> None:
     """A runtime needs no parser: listing a program does not load lark or the front end."""
     assert run("compile", "--emit", "bytecode", "test_act.script").exit_code == 0
     done = subprocess.run([sys.executable, "-c", PROBE, "test_act.scb"], capture_output=True,
-                          text=True, cwd=folder, timeout=60)
+                          text=True, cwd=folder, timeout=60, check=False)
     modules = json.loads(done.stderr[done.stderr.rindex("MODULES ") + 8:])
     assert not [m for m in modules if m.split(".")[0] == "lark" or
                 m.startswith(("scriptc.syntax", "scriptc.emit", "scriptc.check"))]

@@ -18,12 +18,12 @@ from pathlib import Path
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from strategies import scripts
 
-from scriptc.bytecode import BytecodeError, decode, disassemble, encode, load
 from scriptc.analysis.analyze import analyze_script
+from scriptc.bytecode import BytecodeError, decode, disassemble, encode, load
 from scriptc.emit.codegen import codegen
 from scriptc.source import SourceFile
-from strategies import scripts
 
 ROOT = Path(__file__).parent.parent
 sys.path.insert(0, str(ROOT / "bench"))

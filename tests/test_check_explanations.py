@@ -8,8 +8,8 @@ import re
 
 import pytest
 
-from scriptc.diagnostics.codes import all_codes, explanation, lookup
 from scriptc.analysis.analyze import analyze_script
+from scriptc.diagnostics.codes import all_codes, explanation, lookup
 from scriptc.source import SourceFile
 
 SECTIONS = ["## What it means", "## Why it matters", "## Example", "## How to fix"]

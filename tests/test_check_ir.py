@@ -344,7 +344,7 @@ def run(script_and_source, codes=None):
 
 def shown(pair, codes=None):
     """[(code, text under the span)] of the diagnostics of a built script."""
-    script, source = pair
+    _script, source = pair
     return [(d.code, source.text[d.span.start : d.span.end]) for d in run(pair, codes)]
 
 

@@ -7,9 +7,9 @@ from __future__ import annotations
 import subprocess
 import sys
 
+from scriptc.analysis.analyze import analyze_script
 from scriptc.check import check_script
 from scriptc.diagnostics.model import Severity
-from scriptc.analysis.analyze import analyze_script
 from scriptc.ir.builtins import STANDARD, Function, Param
 from scriptc.source import SourceFile
 

@@ -42,7 +42,7 @@ def process(*args: str, input: bytes | None = None, cwd: Path | None = None,
     full_env = {k: v for k, v in os.environ.items() if k not in ("FORCE_COLOR", "NO_COLOR")}
     full_env.update(env or {})
     return subprocess.run([sys.executable, "-m", "scriptc", *args], input=input,
-                          capture_output=True, cwd=cwd, env=full_env, timeout=60)
+                          capture_output=True, cwd=cwd, env=full_env, timeout=60, check=False)
 
 
 @pytest.fixture
@@ -100,8 +100,8 @@ def test_an_interrupt_exits_130_quietly(files: Path, monkeypatch) -> None:
     # lint says how far it got.
     linted = run("lint", "clean.script")
     assert (linted.exit_code, linted.stderr) == (
-        130, "error: interrupted (Ctrl-C) while linting, 0 of 1 file analysed: nothing was "
-             "reported, and no file was left half-written\n")
+        130, ("error: interrupted (Ctrl-C) while linting, 0 of 1 file analysed: nothing was "
+              "reported, and no file was left half-written\n"))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -193,10 +193,10 @@ def test_a_folder_that_cannot_be_read_is_an_error(files: Path) -> None:
     try:
         result = subprocess.run([sys.executable, "-m", "scriptc", "lint", ".", "--format",
                                  "json"], capture_output=True, cwd=files, timeout=60,
-                                preexec_fn=without_root_powers)
+                                preexec_fn=without_root_powers, check=False)
         formatted = subprocess.run([sys.executable, "-m", "scriptc", "fmt", "--check", "."],
                                    capture_output=True, cwd=files, timeout=60,
-                                   preexec_fn=without_root_powers)
+                                   preexec_fn=without_root_powers, check=False)
     finally:
         locked.chmod(0o755)
     message = (b"error: cannot read the folder `locked`: permission denied; the scripts in it "
@@ -498,8 +498,8 @@ def test_compile_refuses_thesis_json_and_says_what_reads_it(thesis: Path) -> Non
     before = sorted(p.name for p in thesis.iterdir())
     result = run("compile", "test_act.json", "-o", "out.json")
     assert (result.exit_code, result.stderr) == (
-        2, "error: `test_act.json` is thesis JSON, not script syntax: `scriptc check "
-           "test_act.json` checks it, `scriptc decompile test_act.json` turns it into a script\n")
+        2, ("error: `test_act.json` is thesis JSON, not script syntax: `scriptc check "
+            "test_act.json` checks it, `scriptc decompile test_act.json` turns it into a script\n"))
     piped = run("compile", "-", "--stdin-filename", "mine.JSON", input=b"{}")
     assert piped.exit_code == 2 and "`scriptc check mine.JSON`" in piped.stderr
     assert sorted(p.name for p in thesis.iterdir()) == before
@@ -611,7 +611,7 @@ def test_process_internal_error_has_no_traceback(files: Path) -> None:
             "sys.argv = ['scriptc', 'lint', 'clean.script']\n"
             "main()\n")
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, cwd=files,
-                            timeout=60)
+                            timeout=60, check=False)
     assert result.returncode == 2
     assert result.stderr.startswith(b"error: internal error: ValueError: boom\n")
     assert b"Traceback" not in result.stderr

@@ -16,10 +16,10 @@ from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
+from test_cli import process as cli_process
 
 from scriptc import __version__
 from scriptc.cli.main import VERBS, cli
-from test_cli import process as cli_process
 
 CLEAN = "[clean]\n[goal:g]\n[action]\n[b##blk_inst: MV() LD() AO()]\n[b##blk_terminus]\n"
 BROKEN = ("[broken]\n[goal:g]\n[action]\n[b#a#blk_jump: CND(! {TRUE}) TRJMP(nowhere) "
@@ -155,7 +155,7 @@ def test_completing_verbs_imports_none_of_them() -> None:
     env.update({"_SCRIPTC_COMPLETE": "bash_complete", "COMP_WORDS": "scriptc ",
                 "COMP_CWORD": "1"})
     done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
-                          env=env, timeout=60)
+                          env=env, timeout=60, check=False)
     assert "plain,lint" in done.stdout
     assert done.stdout.strip().splitlines()[-1] == "['scriptc.cli.main']"
 

@@ -6,14 +6,14 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from click.testing import CliRunner
 import pytest
+from click.testing import CliRunner
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-
-from scriptc.cli.main import cli
 from strategies import scripts
 from test_properties import JUNK
+
+from scriptc.cli.main import cli
 
 # Property tests over generated input: the slow tier (CONTRIBUTING.md).
 pytestmark = pytest.mark.slow

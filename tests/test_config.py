@@ -19,16 +19,22 @@ from dataclasses import replace
 from pathlib import Path
 
 import pytest
-
 from harness import CASES
 from harness.diagnostics import parsed
-from scriptc.project.config import (ImplementationError, Resolver, Settings, build_settings,
-                            find_config, load_config)
+
+from scriptc.diagnostics.codes import diagnostic
+from scriptc.diagnostics.model import Severity
+from scriptc.project.config import (
+    ImplementationError,
+    Resolver,
+    Settings,
+    build_settings,
+    find_config,
+    load_config,
+)
 from scriptc.project.config.tomlpos import locate
 from scriptc.project.setup import Setup
 from scriptc.robot.profile import DEFAULT_PROFILE
-from scriptc.diagnostics.model import Severity
-from scriptc.diagnostics.codes import diagnostic
 from scriptc.source import Span
 
 CONFIG_CASES = CASES / "config"
@@ -96,6 +102,14 @@ def test_wrong_values_are_left_at_their_defaults() -> None:
     assert s.robot is DEFAULT_PROFILE  # every limit rejected keeps its default
     assert s.functions == ()  # each declaration is wrong somewhere
     assert [r.implementation for r in s.rules] == ["rules:greet"]  # the first of the two
+
+
+def test_values_that_cannot_be_looked_up_are_left_out() -> None:
+    """A function's `kind` written as an array or a table raised TypeError (unhashable) while
+    the settings were built: an internal error instead of C002 and the defaults."""
+    loaded = load_config(str(CONFIG_CASES / "unhashable_values.toml"))
+    assert [d.code for d in loaded.diagnostics] == ["C002", "C002"]
+    assert loaded.settings.functions == ()
 
 
 def test_numbers_the_policy_refuses_are_left_at_their_defaults() -> None:
@@ -432,7 +446,7 @@ sys.__stderr__.write("\\nMODULES " + json.dumps(sorted({m.split(".")[0] for m in
 def _modules(args: list[str], cwd: Path) -> set[str]:
     env = {k: v for k, v in os.environ.items() if k not in ("FORCE_COLOR", "NO_COLOR")}
     done = subprocess.run([sys.executable, "-c", PROBE, json.dumps(args)], capture_output=True,
-                          text=True, cwd=cwd, env=env, timeout=60)
+                          text=True, cwd=cwd, env=env, timeout=60, check=False)
     return set(json.loads(done.stderr[done.stderr.rindex("MODULES ") + 8:]))
 
 
@@ -514,7 +528,7 @@ def test_a_script_loaded_during_a_run_is_refused_under_a_broken_configuration(
     (tmp_path / "scriptc.toml").write_text("[robot]\nmax-linear-speed = 0\n")
     script = tmp_path / "a.script"
     script.write_text(GOOD)
-    with pytest.raises(LoadError, match="configuration of .* has errors"):
+    with pytest.raises(LoadError, match=r"configuration of .* has errors"):
         _loader(str(script))
     (tmp_path / "scriptc.toml").write_text("[robot]\nmax-linear-speed = 1\n")
     assert _loader(str(script)).name

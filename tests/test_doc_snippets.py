@@ -67,8 +67,8 @@ def test_the_executor_contract_shown_is_the_modules() -> None:
 def _commands() -> list[tuple[str, list[str]]]:
     out = []
     for where, code in SHELL:
-        for line in code.splitlines():
-            line = line.split(" #", 1)[0].strip()
+        for raw in code.splitlines():
+            line = raw.split(" #", 1)[0].strip()
             for command in re.split(r"\s*(?:&&|\|\||;|\|)\s*", line):
                 words = shlex.split(command.split(" <", 1)[0].split(" >", 1)[0])
                 if words and words[0].endswith("scriptc"):

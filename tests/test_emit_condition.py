@@ -5,9 +5,9 @@ from __future__ import annotations
 import pytest
 
 from scriptc.emit.condition import condition_text
-from scriptc.language import quote
-from scriptc.ir import nodes as ir
 from scriptc.frontend.script import parse_condition
+from scriptc.ir import nodes as ir
+from scriptc.language import quote
 from scriptc.source import Span
 
 S = Span(0, 0)

@@ -10,9 +10,9 @@ from pathlib import Path
 import pytest
 
 from scriptc.emit.json import EmitError, emit_json, label_paths
-from scriptc.ir import nodes as ir
-from scriptc.frontend.thesis_json import _validator
 from scriptc.frontend.script import lower_script
+from scriptc.frontend.thesis_json import _validator
+from scriptc.ir import nodes as ir
 from scriptc.source import SourceFile, Span
 
 DATA = Path(__file__).parent / "data"

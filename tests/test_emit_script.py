@@ -15,9 +15,9 @@ from scriptc.diagnostics.model import Severity
 from scriptc.emit.json import emit_json
 from scriptc.emit.script import format_block, format_script
 from scriptc.formatter import format_text
-from scriptc.ir import nodes as ir
-from scriptc.frontend.thesis_json import _validator, script_from_json
 from scriptc.frontend.script import lower_script
+from scriptc.frontend.thesis_json import _validator, script_from_json
+from scriptc.ir import nodes as ir
 from scriptc.source import SourceFile, Span
 
 DATA = Path(__file__).parent / "data"
@@ -183,7 +183,7 @@ def scripts(draw) -> ir.Script:
     shape = draw(st.lists(st.lists(st.integers(1, 4), min_size=1, max_size=3), min_size=1, max_size=3))
     count = sum(sum(action) for action in shape)
     labels = [f"l{i}" if draw(st.booleans()) else None for i in range(count)]
-    targets = [l for l in labels if l] or [None]
+    targets = [label for label in labels if label] or [None]
     target = st.one_of(st.none(), st.sampled_from(targets)).map(lambda t: ir.Name(t, S) if t else None)
     block_strategy = st.one_of(
         st.tuples(st.just("inst"), st.lists(MOVE, max_size=2), st.lists(LED, max_size=2), st.lists(AUDIO, max_size=2)),

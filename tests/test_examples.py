@@ -224,7 +224,7 @@ def test_approach_stops_a_metre_from_the_child_and_lets_them_come(tmp_path: Path
     # The first reading (0 ms) comes before the first jump reads (docs/runtime.md, "The order
     # of an instant"): the child, 2.475 m away, is within 3 m, and the robot steps at once.
     assert jumps(events, "goal0/act0/blk1")[0] == (0, True)
-    assert [e["label"] for e in events if e["event"] == "block"][0] == "step"
+    assert next(e["label"] for e in events if e["event"] == "block") == "step"
     # The child walks 0.1 m/s, the robot 10 cm every 0.8 s: they are closer than 1 m at the
     # 7.2 s look (0.855 m, after nine steps: x = 0.9 m); the robot waits there in half-second
     # blocks; the child stops walking at 9 s, 0.675 m away, and the wait block that ends at

@@ -126,8 +126,8 @@ def expected_reports(blocks: list[Block]) -> list[tuple[int, tuple[int, ...], st
         else:
             message = (f"{len(group)} blocks form a cycle that passes no instruction block"
                        + (" that takes time" if still else ""))
-        notes = ["the map does not change while blocks are read, so once the robot enters "
-                 "this cycle it repeats the same jumps forever inside one tick"]
+        notes = [("the map does not change while blocks are read, so once the robot enters "
+                  "this cycle it repeats the same jumps forever inside one tick")]
         if len(others) > _MAX_CYCLE_LABELS:
             notes.append(f"{len(others) - _MAX_CYCLE_LABELS} more blocks are part of the cycle")
         if still:

@@ -12,9 +12,9 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-
 from harness import CASES
 from harness.aspects import fmt_inputs
+
 from scriptc.diagnostics.edits import apply_edits
 from scriptc.formatter import LINE_WIDTH, FormatResult, format_range, format_text
 

@@ -14,17 +14,17 @@ import re
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from strategies import scripts
+from test_properties import JUNK, PIECES
 
-from scriptc.diagnostics.edits import apply_edits
 from scriptc.analysis.analyze import analyze_script
+from scriptc.diagnostics.edits import apply_edits
 from scriptc.emit.json import emit_json
 from scriptc.emit.script import format_script
-from scriptc.formatter import LINE_WIDTH, format_range, format_text
+from scriptc.formatter import format_range, format_text
 from scriptc.source import SourceFile
 from scriptc.syntax.parser import parse_items
 from scriptc.syntax.scan import scan
-from strategies import scripts
-from test_properties import JUNK, PIECES
 
 # Property tests over generated input: the slow tier (CONTRIBUTING.md).
 pytestmark = pytest.mark.slow
@@ -52,13 +52,14 @@ def decorate(text: str, rnd) -> str:
         if at_boundary and rnd.random() < 0.08:
             comment = "%" + "".join(rnd.choices(COMMENT_CHARS, k=rnd.randrange(8))) + "%"
             out.append(rnd.choice(["", *BLANKS]) + comment + rnd.choice(["", *BLANKS]))
+        written = piece
         if piece.isspace():
             choice = rnd.randrange(4)
             if choice == 0 and (prev in _PUNCT or nxt in _PUNCT):
                 continue
             if choice == 1:
-                piece = rnd.choice(BLANKS)
-        out.append(piece)
+                written = rnd.choice(BLANKS)
+        out.append(written)
     if rnd.random() < 0.5:
         out.append(rnd.choice(BLANKS) + "% the end %")
     return "".join(out)

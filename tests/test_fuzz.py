@@ -9,11 +9,10 @@ broke (listed in REGRESSIONS, so that each is known to exist)."""
 
 from __future__ import annotations
 
+import fuzzing
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-
-import fuzzing
 
 SCALE = 0.05
 EXAMPLES_PER_ENTRY = 30

@@ -13,11 +13,11 @@ import pytest
 from scriptc import bytecode
 from scriptc.analysis.analyze import analyze_bytes
 from scriptc.ops.build import emit
-from scriptc.robot.profile import DEFAULT_PROFILE, Profile
 from scriptc.resources import schema_path
+from scriptc.robot.motion import Shaper
+from scriptc.robot.profile import DEFAULT_PROFILE, Profile
 from scriptc.runtime.governor import Governor
 from scriptc.runtime.interp import IRProgram
-from scriptc.robot.motion import Shaper
 from scriptc.runtime.robots import make_robot
 from scriptc.runtime.robots.kinematic import KinematicRobot
 from scriptc.runtime.session import Session
@@ -327,7 +327,7 @@ def test_a_held_onset_is_shown_when_the_window_frees() -> None:
     text = BLINK.format(on=200, off=100)  # 3.3 Hz: the fourth onset of a second is held
     robot = make_robot("mujoco")
     dark = robot.led_rgba()
-    _, trace, session = run(text, robot, until=999)
+    _, trace, _session = run(text, robot, until=999)
     (hold,) = [e for e in trace.of_kind("governor") if "led-flash" in e["reasons"]]
     assert (hold["t"], hold["until"]) == (900, 1000)
     assert robot.led_rgba() == dark  # 999: the script asks red, the LEDs are dark
@@ -494,7 +494,7 @@ def test_a_child_in_the_way_of_a_planned_ramp_holds_it() -> None:
 
 def test_a_run_cut_while_a_centred_ramp_anticipates_its_change_brakes() -> None:
     text = moves("0.25, 0, 0, 1000, 1000", leds='"0, 0, 1, 1, 0, 3000"')
-    result, trace, _ = run(text, until=950)  # the ramp began at 875 toward 0.25 m/s
+    _result, trace, _ = run(text, until=950)  # the ramp began at 875 toward 0.25 m/s
     (stop,) = trace.of_kind("governor")
     assert stop["t"] == 950 and stop["commanded"] == STILL and stop["ramp_ms"] == 75
     assert trace.of_kind("session_end")[0]["at_rest_ms"] == 1025

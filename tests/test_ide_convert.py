@@ -27,12 +27,11 @@ def units_before(text: str, offset: int, encoding: str = "utf-16") -> tuple[int,
     line_start, line = 0, 0
     i = 0
     while i < offset:
-        if text[i] == "\r" and i + 1 < len(text) and text[i + 1] == "\n":
-            if i + 1 < offset:
-                i += 2
-                line += 1
-                line_start = i
-                continue
+        if text[i] == "\r" and i + 1 < len(text) and text[i + 1] == "\n" and i + 1 < offset:
+            i += 2
+            line += 1
+            line_start = i
+            continue
         if text[i] in "\r\n":
             line += 1
             line_start = i + 1

@@ -9,20 +9,20 @@ import sys
 from pathlib import Path
 
 import pytest
-
 from harness import CASES
-from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit
+
 from scriptc.analysis.analyze import analyze_script
+from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit
 from scriptc.ide.document import Document, canonical
 from scriptc.ide.incremental import Analyzer
 from scriptc.ide.pads import Layout
-from scriptc.ir.shift import _MAPPERS, _SHIFTERS, map_spans, shift
 from scriptc.ir import nodes
+from scriptc.ir.shift import _MAPPERS, _SHIFTERS, map_spans, shift
 from scriptc.source import SourceFile, Span
 from scriptc.syntax.scan import scan
 
 sys.path.insert(0, str(Path(__file__).parent.parent / "bench"))
-from generate import big_script  # noqa: E402
+from generate import big_script
 
 SCRIPTS = [p.read_bytes().decode("utf-8", "replace") for p in sorted(CASES.rglob("*.script"))
            if "$0" not in p.read_bytes().decode("utf-8", "replace")]
@@ -68,8 +68,8 @@ def test_a_keystroke_reparses_one_item() -> None:
     first = doc.snapshot()
     distinct = len({first.text[i.span.start:i.span.end] for i in first.items})
     assert first.stats.parsed == distinct and first.stats.items == len(first.items)
-    for n, at in enumerate([300, len(text) // 2, len(text) - 3000]):
-        at = doc.text.index('MV("0.', at) + len('MV("0.')
+    for start in [300, len(text) // 2, len(text) - 3000]:
+        at = doc.text.index('MV("0.', start) + len('MV("0.')
         doc.replace(at, at, "5")
         stats = doc.snapshot().stats
         assert (stats.parsed, stats.lowered) == (1, 1), stats

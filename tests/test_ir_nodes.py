@@ -28,8 +28,8 @@ def test_fields_by_position_and_by_name(cls) -> None:
     fields = dataclasses.fields(cls)
     values = [object() for _ in fields]
     by_position = cls(*values)
-    by_name = cls(**{f.name: v for f, v in zip(fields, values)})
-    for f, v in zip(fields, values):
+    by_name = cls(**{f.name: v for f, v in zip(fields, values, strict=True)})
+    for f, v in zip(fields, values, strict=True):
         assert getattr(by_position, f.name) is v and getattr(by_name, f.name) is v
     assert by_position == by_name
     with pytest.raises(dataclasses.FrozenInstanceError):

@@ -8,8 +8,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from scriptc.source import Span
 from scriptc.frontend.jsonpos import JsonError, parse_json, string_offsets
+from scriptc.source import Span
 
 
 def test_values_and_spans() -> None:
@@ -61,8 +61,8 @@ def test_byte_order_mark_is_skipped() -> None:
     ("[1] x", "unexpected `x` after the end of the JSON value", 1, 5),
     ('"ab', "unterminated string", 1, 1),
     ('["a\nb"]', "a line break inside a string: write it as `\\n`", 1, 4),
-    ('["\\x"]', "invalid escape `\\x` in a string: JSON knows `\\\"`, `\\\\`, `\\/`, `\\b`, "
-     "`\\f`, `\\n`, `\\r`, `\\t` and `\\uXXXX`", 1, 3),
+    ('["\\x"]', ("invalid escape `\\x` in a string: JSON knows `\\\"`, `\\\\`, `\\/`, `\\b`, "
+     "`\\f`, `\\n`, `\\r`, `\\t` and `\\uXXXX`"), 1, 3),
     ('["\\ud800"]', "the escape `\\ud800` is the first half of a surrogate pair without its second half", 1, 3),
     ('["\\udc00"]', "the escape `\\udc00` is the second half of a surrogate pair without its first half", 1, 3),
     ('["\\u12"]', "`\\u` must be followed by four hexadecimal digits", 1, 3),
@@ -70,14 +70,14 @@ def test_byte_order_mark_is_skipped() -> None:
     ("[1 2]", "expected `,` or `]` after an array element, found `2`", 1, 4),
     ('{"a": 1]', "expected `,` or `}` after an object member, found `]`", 1, 8),
     ("[\n  1,\n  2", "the file ends inside an array", 3, 4),
-    ("[1e999]", "the number `1e999` is too large: numbers must be finite and within ±1.8e+308 "
-     "(a double)", 1, 2),
-    ("[-1e400]", "the number `-1e400` is too large: numbers must be finite and within "
-     "±1.8e+308 (a double)", 1, 2),
-    ("{\n \"a\": " + "9" * 5000 + "}", "the number `9999999999...999999` (5000 digits) is too "
-     "large: numbers must be finite and within ±1.8e+308 (a double)", 2, 7),
-    ("[" + "9" * 309 + ".0]", "the number `9999999999...9999.0` (310 digits) is too large: "
-     "numbers must be finite and within ±1.8e+308 (a double)", 1, 2),
+    ("[1e999]", ("the number `1e999` is too large: numbers must be finite and within ±1.8e+308 "
+     "(a double)"), 1, 2),
+    ("[-1e400]", ("the number `-1e400` is too large: numbers must be finite and within "
+     "±1.8e+308 (a double)"), 1, 2),
+    ("{\n \"a\": " + "9" * 5000 + "}", ("the number `9999999999...999999` (5000 digits) is too "
+     "large: numbers must be finite and within ±1.8e+308 (a double)"), 2, 7),
+    ("[" + "9" * 309 + ".0]", ("the number `9999999999...9999.0` (310 digits) is too large: "
+     "numbers must be finite and within ±1.8e+308 (a double)"), 1, 2),
     ("// c\n{}", "JSON has no comments", 1, 1),
     ('{"a": 1 /* c */}', "JSON has no comments", 1, 9),
 ])
@@ -171,7 +171,7 @@ def test_never_crashes(text: str) -> None:
         # json accepts duplicate keys and numbers too large for a double (`1e999` is
         # infinity), which this parser refuses on purpose.
         if got is JsonError and expected is not JsonError:
-            with pytest.raises(JsonError, match="duplicate key|too large"):
+            with pytest.raises(JsonError, match=r"duplicate key|too large"):
                 parse_json(text)
         else:
             assert got is expected

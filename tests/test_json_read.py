@@ -13,10 +13,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from scriptc.ir import nodes as ir
-from scriptc.frontend.thesis_json import _is_valid, _validator, invented_label, script_from_json
-from scriptc.source import SourceFile, Span
 from scriptc.frontend.jsonpos import parse_json
+from scriptc.frontend.thesis_json import _is_valid, _validator, invented_label, script_from_json
+from scriptc.ir import nodes as ir
+from scriptc.source import SourceFile, Span
 
 DATA = Path(__file__).parent / "data"
 
@@ -50,7 +50,7 @@ def test_j001_is_at_the_exact_position() -> None:
 
 
 def test_j001_labels_the_first_of_two_keys() -> None:
-    source, script, [d] = read('{"activityname": "a", "activityname": "b"}')
+    source, _script, [d] = read('{"activityname": "a", "activityname": "b"}')
     assert (d.code, text_of(source, d.span)) == ("J001", '"activityname"')
     assert d.labels[0].span == Span(1, 15) and d.labels[0].message == "first defined here"
 
@@ -84,7 +84,8 @@ def test_j002_missing_and_unknown_keys_point_at_keys() -> None:
 
 
 def test_j002_numbering() -> None:
-    source, script, [problem] = read(json.dumps(doc(blk0={"type": "terminus"}, blk2={"type": "terminus"})))
+    _source, _script, [problem] = read(json.dumps(doc(blk0={"type": "terminus"},
+                                                       blk2={"type": "terminus"})))
     assert problem.code == "J002" and problem.path == "goal0/act0/blk2"
     assert problem.message == "`goal0/act0` has `blk2` but no `blk1`: keys are numbered from 0 without gaps"
 
@@ -92,7 +93,7 @@ def test_j002_numbering() -> None:
 def test_j002_on_a_deeply_nested_document() -> None:
     depth = 20_000
     text = '{"activityname": ' + "[" * depth + "]" * depth + "}"
-    source, script, problems = read(text)
+    _source, script, problems = read(text)
     assert script is None
     assert {p.code for p in problems} == {"J002"}
     assert any(p.message.startswith("`activityname` must be a string, found an array") for p in problems)
@@ -237,7 +238,7 @@ def test_condition_positions_survive_escapes() -> None:
 
 def test_condition_parse_errors_are_reported_and_the_block_kept() -> None:
     d = doc(blk0={"type": "jump", "toparse": "! {E: gt(1, 2)", "truejump": "", "falsejump": ""})
-    source, script, problems = read(json.dumps(d))
+    _source, script, problems = read(json.dumps(d))
     assert script is not None
     assert [p.code for p in problems] == ["P002"]
     assert isinstance(script.goals[0].actions[0].blocks[0], ir.JumpBlock)

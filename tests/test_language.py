@@ -77,9 +77,9 @@ def test_the_patterns_are_the_grammars_terminals() -> None:
     for terminal, literal in (("THIS", language.THIS), ("FIELD_ACCESS", language.FIELD_ACCESS),
                               ("ATT_ACCESS", language.ATT_ACCESS)):
         assert terminals[terminal].pattern.value == literal
-    assert language.RULE_MESSAGES == (terminals["ALFA"].pattern.value,
-                                      terminals["OMEGA"].pattern.value)
-    assert language.TRACKS == tuple(terminals[t].pattern.value for t in ("MV", "LD", "AO"))
+    assert (terminals["ALFA"].pattern.value,
+            terminals["OMEGA"].pattern.value) == language.RULE_MESSAGES
+    assert tuple(terminals[t].pattern.value for t in ("MV", "LD", "AO")) == language.TRACKS
 
 
 def test_the_name_is_split_into_its_classes() -> None:
@@ -87,8 +87,8 @@ def test_the_name_is_split_into_its_classes() -> None:
     assert all(re.fullmatch(language.NAME_CHAR, c) for c in language.NAME_CHARS)
     assert {chr(c) for c in range(0x3000) if re.fullmatch(language.NAME_CHAR, chr(c))} == \
         language.NAME_CHARS  # ASCII only: `é` and `٣` are not name characters
-    assert language.NAME_CHARS == set("abcdefghijklmnopqrstuvwxyz"
-                                      "ABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-")
+    assert set("abcdefghijklmnopqrstuvwxyz"
+               "ABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-") == language.NAME_CHARS
 
 
 def test_every_word_of_the_grammar_is_in_one_group() -> None:
@@ -96,14 +96,14 @@ def test_every_word_of_the_grammar_is_in_one_group() -> None:
     grammar, completion and tokens, which read these groups)."""
     literals = {str(t.pattern.value) for t in _grammar_terminals().values()
                 if type(t.pattern).__name__ == "PatternStr"}
-    assert language.GRAMMAR_WORDS == {w for w in literals if language.is_name(w)}
+    assert {w for w in literals if language.is_name(w)} == language.GRAMMAR_WORDS
     groups = [set(language.ITEM_KEYWORDS) | {"b"}, set(language.BLOCK_KINDS),
               set(language.TRACKS), set(language.JUMP_WORDS), set(language.ASSIGNMENTS),
               {language.TRUE}, set(language.FUNCTION_KINDS)]
     assert sum(len(g) for g in groups) == len(set().union(*groups))  # disjoint
     assert set().union(*groups) - {"action"} == language.GRAMMAR_WORDS
     assert set(language.RULE_MESSAGES) <= set(language.ITEM_KEYWORDS)
-    assert language.ITEM_WORDS == set(language.ITEM_KEYWORDS) | {"b"}
+    assert set(language.ITEM_KEYWORDS) | {"b"} == language.ITEM_WORDS
 
 
 def test_the_comparisons_are_the_operator_terminals() -> None:

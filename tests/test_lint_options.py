@@ -10,13 +10,16 @@ import os
 from pathlib import Path
 
 import pytest
-from hypothesis import given, settings as hsettings, strategies as st
+from hypothesis import given
+from hypothesis import settings as hsettings
+from hypothesis import strategies as st
 
-from scriptc.project.config import RuleSelection, Settings
-from scriptc.diagnostics.codes import lint_codes
 # The scripts and helpers of the repository-wide lint tests: CLEAN, WARNS (F001, a warning),
 # FIXABLE (R007 with a safe fix, R003 with an unsafe one).
 from test_lint_repo import CLEAN, FIXABLE, WARNS, run, write
+
+from scriptc.diagnostics.codes import lint_codes
+from scriptc.project.config import RuleSelection, Settings
 
 SAFELY_FIXED = FIXABLE.replace("#Human u", "#Human U")
 ALL_FIXED = SAFELY_FIXED.replace("nea(1)", "near(1)")

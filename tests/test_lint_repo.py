@@ -11,8 +11,8 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 
-from scriptc.ops import lint
 from scriptc.cli.main import cli
+from scriptc.ops import lint
 
 CLEAN = "[clean]\n[goal:g]\n[action]\n[b##blk_inst: MV() LD() AO()]\n[b##blk_terminus]\n"
 WARNS = ("[warns]\n[goal:g]\n[action]\n[b##blk_jump: CND(! {TRUE}) TRJMP(end) FLSJMP()]\n"

@@ -81,7 +81,7 @@ def test_a_command_string_met_again_is_read_the_same_at_its_own_place() -> None:
         return [m.v_x, m.v_y, m.v_theta, m.wait_t, m.duration, a.wait_t, a.duration]
 
     assert [n.text for n in numbers(second)] == ["0", "0.1", "0", "0", "500", "0", "9"]
-    for a, b in zip(numbers(first), numbers(second)):
+    for a, b in zip(numbers(first), numbers(second), strict=True):
         assert b.text == a.text and b.span == (a.span.start + shift, a.span.end + shift)
         assert text[b.span.start:b.span.end] == b.text
     assert [code for code, _, _ in diagnostics] == ["V002", "V002"]

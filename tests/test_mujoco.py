@@ -8,11 +8,10 @@ import math
 from pathlib import Path
 
 import pytest
-
 from click.testing import CliRunner
 
-from scriptc.cli.main import cli
 from scriptc.analysis.analyze import analyze_bytes
+from scriptc.cli.main import cli
 from scriptc.robot.profile import DEFAULT_PROFILE, Profile
 from scriptc.runtime.interp import IRProgram
 from scriptc.runtime.robots import RobotFailure, make_robot

@@ -204,7 +204,7 @@ def test_load_programs_refuses_what_cannot_run(here: Path) -> None:
                  "sub/scriptc.toml": BROKEN_CONFIG, "sub/a.script": CLEAN})
     loaded = programs.load_programs(["broken.script"])
     assert not loaded.ok and loaded.programs == [None] and loaded.analyses[0].errors
-    with pytest.raises(programs.Refused, match="bad.scb"):
+    with pytest.raises(programs.Refused, match=r"bad\.scb"):
         programs.load_programs(["bad.scb"])
     with pytest.raises(ReadError, match="does not exist"):
         programs.load_programs(["missing.script"])
@@ -267,11 +267,11 @@ def test_a_format_run_yields_each_files_outcome(here: Path, capsys) -> None:
 
 
 def test_formatting_stdin_gives_what_goes_to_stdout() -> None:
-    (done,) = format_ops.FormatRun(["-"], stdin=lambda: CLEAN.encode())
+    (done,) = format_ops.FormatRun(["-"], stdin=CLEAN.encode)
     assert done.status == "reformatted" and done.stdout == TIDY.encode()
-    (kept,) = format_ops.FormatRun(["-"], stdin=lambda: BROKEN.encode())
+    (kept,) = format_ops.FormatRun(["-"], stdin=BROKEN.encode)
     assert kept.status == "refused" and kept.stdout == BROKEN.encode()  # never lost
-    (dry,) = format_ops.FormatRun(["-"], stdin=lambda: CLEAN.encode(), dry=True)
+    (dry,) = format_ops.FormatRun(["-"], stdin=CLEAN.encode, dry=True)
     assert dry.status == "changed" and dry.stdout is None
 
 

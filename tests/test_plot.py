@@ -7,7 +7,6 @@ import math
 from pathlib import Path
 
 import pytest
-
 from click.testing import CliRunner
 
 from scriptc.cli.main import cli
@@ -167,6 +166,7 @@ def test_the_greetings_child_is_where_the_robot_was_told(tmp_path, monkeypatch) 
     expected = [(2.5 * math.cos(0.3), 2.5 * math.sin(0.3)), (1.2 * math.cos(0.2),
                                                              1.2 * math.sin(0.2))]
     flat = [c for point in expected for c in point]
-    paths = [[c for point in zip(*line.get_data()) for c in point] for line in top.get_lines()]
+    paths = [[c for point in zip(*line.get_data(), strict=True) for c in point]
+             for line in top.get_lines()]
     assert any(len(path) == 4 and path == pytest.approx(flat) for path in paths)
     assert {"2 s", "3 s", "Human/kid1"} <= {t.get_text() for t in top.texts}

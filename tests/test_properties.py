@@ -7,11 +7,11 @@ import json
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-
-from scriptc.diagnostics.model import Severity
-from scriptc.analysis.analyze import analyze_script
-from scriptc.source import SourceFile
 from strategies import conditions, scripts
+
+from scriptc.analysis.analyze import analyze_script
+from scriptc.diagnostics.model import Severity
+from scriptc.source import SourceFile
 
 # Property tests over generated input: the slow tier (CONTRIBUTING.md).
 pytestmark = pytest.mark.slow

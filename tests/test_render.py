@@ -9,10 +9,10 @@ import json
 import re
 
 import pytest
+from harness import CASES, expect
 from hypothesis import given
 from hypothesis import strategies as st
 
-from harness import CASES, expect
 from scriptc.diagnostics.model import Diagnostic, Fix, Label, Severity, TextEdit
 from scriptc.diagnostics.render import (
     FORMATS,
@@ -116,8 +116,8 @@ def long_diagnostics() -> list[Diagnostic]:
 
 
 GAP = ("[b#x#blk_terminus]\n"
-       + "[b##blk_inst: MV(" + ", ".join(['"0, 0, 0, 0, 10"'] * 12) + ") LD() AO()]\n"
-       + "[b#x#blk_terminus]\n")
+       "[b##blk_inst: MV(" + ", ".join(['"0, 0, 0, 0, 10"'] * 12) + ") LD() AO()]\n"
+       "[b#x#blk_terminus]\n")
 
 
 def gap_diagnostics() -> list[Diagnostic]:
@@ -277,7 +277,8 @@ def test_json_records() -> None:
 
 def test_json_columns_count_code_points() -> None:
     records = json.loads(render_json(SNAPSHOTS["unicode"]()))
-    # `, 0, 1` follows `"café´ 😀` on line 3: columns count each code point once.
+    # `, 0, 1` follows `"caf\u00e9\u0301 \U0001F600` on line 3: columns count each code point
+    # once.
     line = UNICODE.splitlines()[2]
     assert records[1]["line"] == 3
     assert records[1]["column"] == line.index(", 0, 1") + 1

@@ -267,7 +267,7 @@ def test_mutex_misuse_is_reported_and_the_lock_does_what_the_messages_say(
     mutex.hand_over(0, messages, kind, "plain")
     found = _misuses(session)
     assert len(found) == len(expected)
-    for text, wanted in zip(found, expected):
+    for text, wanted in zip(found, expected, strict=True):
         assert wanted in text
     assert mutex.chain.locked == locked
 

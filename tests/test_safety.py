@@ -5,11 +5,11 @@ from __future__ import annotations
 
 import pytest
 
+from scriptc.analysis.analyze import analyze_bytes
 from scriptc.check import check_script
 from scriptc.check.context import Context
 from scriptc.check.safety import check_safety
 from scriptc.project.config import Settings, build_settings
-from scriptc.analysis.analyze import analyze_bytes
 from scriptc.robot.profile import DEFAULT_PROFILE, Profile
 
 
@@ -61,8 +61,8 @@ def test_a_profile_on_the_context_is_used() -> None:
 
 @pytest.mark.parametrize("ld, expected", [
     # on 100, off 100, four times: 4 flashes within 700 ms
-    ('"1, 0, 0, 1, 0, 100", "1, 0, 0, 1, 100, 100", "1, 0, 0, 1, 100, 100", '
-     '"1, 0, 0, 1, 100, 100"', ["K002"]),
+    (('"1, 0, 0, 1, 0, 100", "1, 0, 0, 1, 100, 100", "1, 0, 0, 1, 100, 100", '
+      '"1, 0, 0, 1, 100, 100"'), ["K002"]),
     # three flashes in a second are allowed
     ('"1, 0, 0, 1, 0, 100", "1, 0, 0, 1, 100, 100", "1, 0, 0, 1, 100, 100"', []),
     # on 150, off 200 (2.9 Hz): never 4 in one second

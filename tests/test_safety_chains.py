@@ -11,12 +11,12 @@ import time
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from strategies import scripts
 
+from scriptc.analysis.analyze import analyze_script
 from scriptc.check.context import Context
 from scriptc.check.safety import check_safety
-from scriptc.analysis.analyze import analyze_script
 from scriptc.source import SourceFile
-from strategies import scripts
 
 FAST = settings(max_examples=500, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 LIMIT = 3  # the default profile's max-led-flash-rate
@@ -124,7 +124,7 @@ def oracle(blocks) -> bool:
         return count + max((most(e, elapsed + duration, ends and timed[e][1][:1] == [0], horizon)
                             for e in next_timed(successors(block))), default=0)
 
-    for b, (duration, onsets, ends) in timed.items():
+    for b, (_duration, onsets, _ends) in timed.items():
         for x in onsets:
             if x == 0 and b in lit_in and b not in dark:
                 continue
@@ -234,8 +234,9 @@ def test_a_branching_ladder_stays_linear() -> None:
 def test_a_spent_budget_still_reports(monkeypatch) -> None:
     """Past the budget of work, searches stop early (16 blocks), and the reports found are
     still whole: the case files give the same diagnostics."""
-    import scriptc.check.safety as safety
     from harness import CASES
+
+    import scriptc.check.safety as safety
 
     for path in sorted((CASES / "safety").glob("chain_*.script")):
         text = path.read_text(encoding="utf-8")

@@ -11,13 +11,13 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from lark.exceptions import UnexpectedInput
+from strategies import conditions, scripts
+from test_properties import PIECES
 
 from scriptc.syntax import shapes
 from scriptc.syntax.parser import _build, script_lark
 from scriptc.syntax.scan import scan
 from scriptc.syntax.shapes import ShapeParser
-from strategies import conditions, scripts
-from test_properties import PIECES
 
 CASES = Path(__file__).parent / "cases"
 
@@ -111,8 +111,8 @@ def test_a_frequent_shape_does_not_take_keywords_for_names() -> None:
 def test_keywords_that_are_names_elsewhere() -> None:
     """`goal` and `b` are keywords where the parser accepts them and names elsewhere."""
     texts = ["[goal:goal]", "[b#goal#blk_terminus]", "[b#b#blk_terminus]", "[goal:b]",
-             "[b#blk_inst#blk_inst:]", "[goalx]", "[b#x#blk_jump: CND(! {TRUE}) TRJMP(goal) "
-             "FLSJMP(b)]"]
+             "[b#blk_inst#blk_inst:]", "[goalx]", ("[b#x#blk_jump: CND(! {TRUE}) TRJMP(goal) "
+             "FLSJMP(b)]")]
     agree(ShapeParser(script_lark(), "item"), script_lark(), texts)
 
 

@@ -6,11 +6,11 @@ cannot show (the explain examples, where suppressed diagnostics go)."""
 from __future__ import annotations
 
 import pytest
+from test_check_explanations import example_script
 
 from scriptc.analysis.analyze import analyze_bytes, analyze_script
-from scriptc.source import SourceFile
 from scriptc.analysis.suppress import find_suppressions
-from test_check_explanations import example_script
+from scriptc.source import SourceFile
 
 HEAD = "[act]\n[goal:g]\n[action]\n"
 UNREACHABLE = (HEAD + "[b##blk_jump: CND(! {TRUE}) TRJMP(end) FLSJMP()]\n"

@@ -14,6 +14,7 @@ from scriptc import bytecode
 from scriptc.analysis.analyze import analyze_bytes
 from scriptc.ops.build import emit
 from scriptc.runtime.bindings import READER, Bindings
+from scriptc.runtime.commands import Position
 from scriptc.runtime.evaluate import EvalContext, evaluate
 from scriptc.runtime.executor import End, Issue, SeekError
 from scriptc.runtime.functions import STANDARD_IMPLEMENTATIONS
@@ -21,7 +22,6 @@ from scriptc.runtime.interp import IRProgram
 from scriptc.runtime.rules import parse_condition_text
 from scriptc.runtime.session import Session
 from scriptc.runtime.trace import Trace
-from scriptc.runtime.commands import Position
 from scriptc.runtime.vm import VMProgram, program_from_bytecode
 from scriptc.runtime.world import World, parse_update
 
@@ -357,12 +357,12 @@ def test_the_vm_runs_verified_programs_only() -> None:
     program = vm_program(SCRIPT).bytecode
     with pytest.raises(TypeError, match="verified"):
         VMProgram(program, "t.scb")
-    with pytest.raises(TypeError, match="bytecode.verify"):
+    with pytest.raises(TypeError, match=r"bytecode\.verify"):
         bytecode.Verified(program, [])
     verified = bytecode.verify(program)
     assert verified.program is program
     # The verifier hands over the instructions it decoded, block by block, in code order.
-    assert [[ins.offset for ins in block] for block in verified.instructions][0][0] == 0
+    assert verified.instructions[0][0].offset == 0
     assert len(verified.instructions) == len(program.blocks)
     assert all(ins.end == ins.offset + ins.opcode.size
                for block in verified.instructions for ins in block)

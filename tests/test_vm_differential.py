@@ -15,6 +15,7 @@ from __future__ import annotations
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from strategies import conditions, scripts
 
 from scriptc import bytecode
 from scriptc.analysis.analyze import analyze_bytes
@@ -24,7 +25,6 @@ from scriptc.runtime.scenario import scenario_from_data
 from scriptc.runtime.session import Session
 from scriptc.runtime.trace import Trace
 from scriptc.runtime.vm import VMProgram
-from strategies import conditions, scripts
 
 # Property tests over generated input: the slow tier (CONTRIBUTING.md).
 pytestmark = pytest.mark.slow

@@ -184,14 +184,14 @@ def test_the_name_of_a_descriptor_is_written_to(here: Path) -> None:
     """`-o /dev/stdout`: to whatever stdout is open on, a pipe or a file the shell opened to
     append to (never replaced: what was in it stays)."""
     piped = subprocess.run([sys.executable, "-m", "scriptc", "compile", "clean.script", "-o",
-                            "/dev/stdout"], capture_output=True, cwd=here, timeout=60)
+                            "/dev/stdout"], capture_output=True, cwd=here, timeout=60, check=False)
     assert (piped.returncode, piped.stdout, piped.stderr) == (0, expected_json(), b"")
     log = here / "log.txt"
     log.write_bytes(b"before\n")
     with open(log, "ab") as appended:
         result = subprocess.run([sys.executable, "-m", "scriptc", "compile", "clean.script",
                                  "-o", "/dev/stdout"], stdout=appended, stderr=subprocess.PIPE,
-                                cwd=here, timeout=60)
+                                cwd=here, timeout=60, check=False)
     assert (result.returncode, result.stderr) == (0, b"")
     assert log.read_bytes() == b"before\n" + expected_json()
     assert leftovers(here) == []
@@ -201,7 +201,7 @@ def test_the_name_of_a_descriptor_is_written_to(here: Path) -> None:
 def test_dash_is_stdout(here: Path) -> None:
     result = subprocess.run([sys.executable, "-m", "scriptc", "compile", "clean.script",
                              "--emit", "bytecode", "-o", "-"], capture_output=True, cwd=here,
-                            timeout=60)
+                            timeout=60, check=False)
     assert result.returncode == 0 and result.stdout.startswith(b"SCB")
     assert not (here / "-").exists()
     decompiled = run("decompile", "-", "-o", "-", input=expected_json())
@@ -217,8 +217,8 @@ def test_a_folder_or_a_missing_folder_is_refused_before_the_work(here: Path) -> 
     # The script is broken: had the compilation run, its diagnostics would show (exit 1).
     missing = run("compile", "broken.script", "-o", "nodir/x.json")
     assert (missing.exit_code, missing.stderr) == (
-        2, "error: cannot write `nodir/x.json`: the folder `nodir` does not exist (create it "
-           "first: mkdir -p nodir)\n")
+        2, ("error: cannot write `nodir/x.json`: the folder `nodir` does not exist (create it "
+            "first: mkdir -p nodir)\n"))
     (here / "adir").mkdir()
     folder = run("compile", "broken.script", "-o", "adir")
     assert folder.exit_code == 2
@@ -226,8 +226,8 @@ def test_a_folder_or_a_missing_folder_is_refused_before_the_work(here: Path) -> 
     (here / "file").write_text("", encoding="utf-8")
     under_a_file = run("decompile", "x.json", "-o", "file/x.script")
     assert (under_a_file.exit_code, under_a_file.stderr) == (
-        2, "error: cannot write `file/x.script`: `file` is not a folder (choose another "
-           "path)\n")
+        2, ("error: cannot write `file/x.script`: `file` is not a folder (choose another "
+            "path)\n"))
     assert not (here / "nodir").exists() and list((here / "adir").iterdir()) == []
 
 
@@ -240,8 +240,8 @@ def test_run_refuses_an_unwritable_plot_or_trace_before_the_run(here: Path, monk
     monkeypatch.setattr(Session, "run", must_not_run)
     plot = run("run", "clean.script", "--robot", "kinematic", "--plot", "nodir/run.png")
     assert (plot.exit_code, plot.stderr) == (
-        2, "error: cannot write `nodir/run.png`: the folder `nodir` does not exist (create it "
-           "first: mkdir -p nodir)\n")
+        2, ("error: cannot write `nodir/run.png`: the folder `nodir` does not exist (create it "
+            "first: mkdir -p nodir)\n"))
     (here / "traces").mkdir()
     trace = run("run", "clean.script", "--robot", "kinematic", "--trace", "traces")
     assert trace.exit_code == 2 and "cannot write `traces`: it is a folder" in trace.stderr
@@ -285,7 +285,7 @@ def limited(max_bytes: int):
 
 def scriptc(*args: str, cwd: Path, max_bytes: int) -> subprocess.CompletedProcess:
     return subprocess.run([sys.executable, "-m", "scriptc", *args], capture_output=True,
-                          cwd=cwd, timeout=120, preexec_fn=limited(max_bytes))
+                          cwd=cwd, timeout=120, preexec_fn=limited(max_bytes), check=False)
 
 
 def test_a_failed_write_leaves_the_old_file(here: Path) -> None:

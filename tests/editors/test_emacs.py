@@ -17,7 +17,6 @@ import subprocess
 from pathlib import Path
 
 import pytest
-
 from editortest import Session, edits, expected_steps
 
 pytestmark = pytest.mark.editor
@@ -35,10 +34,11 @@ def test_emacs_eglot_edits_after_non_ascii_text_and_sees_a_configuration_change(
                                   "new_text": e.new_text} for e in edits()])
     done = subprocess.run([EMACS, "--batch", "-q", "-l", str(SESSION)], env=env,
                           cwd=session.repo, capture_output=True, text=True, timeout=180,
-                          stdin=subprocess.DEVNULL)
+                          stdin=subprocess.DEVNULL, check=False)
     record = session.record(done)
     assert record["position_encoding"] == "utf-16"  # eglot 1.9 offers none
-    for step, (text, diagnostics) in zip(record["steps"], expected_steps(tmp_path / "lint")):
+    for step, (text, diagnostics) in zip(record["steps"], expected_steps(tmp_path / "lint"),
+                                         strict=True):
         assert step["lines"] == text.split("\n"), step["name"]
         shown = []
         for d in step["diagnostics"]:

@@ -17,7 +17,6 @@ import subprocess
 from pathlib import Path
 
 import pytest
-
 from editortest import CONFIG_LATER, Session, edits, expected_steps
 
 pytestmark = pytest.mark.editor
@@ -36,19 +35,21 @@ def neovims() -> dict[str, str]:
 def test_neovim_edits_after_non_ascii_text_and_sees_a_configuration_change(neovim, tmp_path):
     nvim = neovims()[neovim]
     assert os.access(nvim, os.X_OK), f"{nvim}: install it (.ci/run: apt-get install neovim)"
-    version = subprocess.run([nvim, "--version"], capture_output=True, text=True).stdout
+    version = subprocess.run([nvim, "--version"], capture_output=True, text=True,
+                             check=True).stdout
     session = Session(tmp_path)
     env = session.prepare(config_later=CONFIG_LATER.rstrip("\n"), edits=[
         {"line": e.line, "start_byte": e.start_byte, "end_byte": e.end_byte,
          "new_text": e.new_text} for e in edits()])
     done = subprocess.run([nvim, "--headless", "--clean", "-n", "-c", f"luafile {SESSION}"],
                           env=env, capture_output=True, text=True, timeout=180,
-                          stdin=subprocess.DEVNULL)
+                          stdin=subprocess.DEVNULL, check=False)
     record = session.record(done)
     # The server counts in the encoding Neovim prefers, and Neovim counts in it too.
     assert record["position_encoding"] == "utf-8", version
     assert record["offset_encoding"] == "utf-8"
-    for step, (text, diagnostics) in zip(record["steps"], expected_steps(tmp_path / "lint")):
+    for step, (text, diagnostics) in zip(record["steps"], expected_steps(tmp_path / "lint"),
+                                         strict=True):
         lines = text.split("\n")[:-1]
         assert step["lines"] == lines, step["name"]
         assert step["diagnostics"] == [_in_bytes(d, lines) for d in diagnostics], step["name"]

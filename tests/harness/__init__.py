@@ -97,7 +97,7 @@ def files(folder: str = "", pattern: str = "*", *, recursive: bool = True) -> li
     matches `pattern`, sorted."""
     base = CASES / folder
     return [p for p in _tree() if fnmatch(p.name, pattern)
-            and (p.parent == base or recursive and p.is_relative_to(base))]
+            and (p.parent == base or (recursive and p.is_relative_to(base)))]
 
 
 @dataclass(frozen=True)

@@ -3,9 +3,8 @@
 from __future__ import annotations
 
 import pytest_lsp
-from pytest_lsp import LanguageClient
-
 from lsptest import CONFIG, start
+from pytest_lsp import LanguageClient
 
 
 @pytest_lsp.fixture(scope="module", config=CONFIG)

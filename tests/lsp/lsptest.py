@@ -15,9 +15,9 @@ import sys
 from pathlib import Path
 
 from lsprotocol import types as lsp
+from pygls.protocol import default_converter
 from pytest_lsp import ClientServerConfig, LanguageClient
 from pytest_lsp.client import DEFAULT_CLIENT_FEATURES, register_lsp_features
-from pygls.protocol import default_converter
 
 from scriptc.diagnostics import edits as edits_module
 from scriptc.diagnostics.model import TextEdit
@@ -215,7 +215,7 @@ def run_session(messages: list[dict], capabilities: dict | None = None,
         body = json.dumps({"jsonrpc": "2.0", **message}).encode()
         framed.append(b"Content-Length: %d\r\n\r\n%s" % (len(body), body))
     done = subprocess.run(SERVER_COMMAND, input=b"".join(framed), capture_output=True,
-                          timeout=timeout)
+                          timeout=timeout, check=False)
     responses: dict[int, dict] = {}
     out = done.stdout
     while out:

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import pytest
 from lsprotocol import types as lsp
-
 from lsptest import Doc, apply_edits
 
 pytestmark = pytest.mark.asyncio(loop_scope="module")
@@ -26,11 +25,11 @@ def applied(doc: Doc, action: lsp.CodeAction) -> str:
 CASES = [
     ("mutex", '[a]\n[alfa:0, k, "", "", R, M]\n[omega:0, k, "", "", C, L]\n[goal:g]\n[action]\n[b##blk_terminus]\n',
      "R, M", 3, "M001", '[alfa:0, k, "", "", R, U]'),
-    ("label", "[a]\n[goal:g]\n[action]\n[b#start#blk_inst: MV() LD() AO()]\n"
-              "[b##blk_jump: CND(! {TRUE}) TRJMP(strat) FLSJMP()]\n[b##blk_terminus]\n",
+    ("label", ("[a]\n[goal:g]\n[action]\n[b#start#blk_inst: MV() LD() AO()]\n"
+               "[b##blk_jump: CND(! {TRUE}) TRJMP(strat) FLSJMP()]\n[b##blk_terminus]\n"),
      "strat", 1, "L003", "TRJMP(start)"),
-    ("operator", "[a]\n[goal:g]\n[action]\n[b##blk_jump: CND({CLASS #Human U ?k (?THIS>&positionrho < 1)} ! {TRUE}) "
-                 "TRJMP() FLSJMP()]\n[b##blk_terminus]\n",
+    ("operator", ("[a]\n[goal:g]\n[action]\n[b##blk_jump: CND({CLASS #Human U ?k (?THIS>&positionrho < 1)} ! {TRUE}) "
+                  "TRJMP() FLSJMP()]\n[b##blk_terminus]\n"),
      "< 1", 0, "P001", "positionrho OP< 1"),
     ("terminus", "[a]\n[goal:g]\n  [action]\n    [b##blk_inst: MV() LD() AO()]\n",
      "[b##", 1, "F003", "    [b##blk_inst: MV() LD() AO()]\n    [b##blk_terminus]"),

@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import pytest
 from lsprotocol import types as lsp
-
 from lsptest import Doc
 
 pytestmark = pytest.mark.asyncio(loop_scope="module")
@@ -32,7 +31,7 @@ async def complete_after(client, name: str, typed: str) -> tuple[Doc, list[lsp.C
 
 
 async def test_items_after_bracket(client):
-    doc, items = await complete_after(client, "c-items.script", "    [")
+    _doc, items = await complete_after(client, "c-items.script", "    [")
     labels = [i.label for i in items]
     assert labels[:4] == ["goal:", "action", "alfa:", "omega:"]
     assert "b##blk_jump" in labels

@@ -11,9 +11,8 @@ import asyncio
 import pytest
 import pytest_lsp
 from lsprotocol import types as lsp
-from pytest_lsp import ClientServerConfig, LanguageClient
-
 from lsptest import SERVER_COMMAND, TIMEOUT, Doc, capabilities, make_client
+from pytest_lsp import ClientServerConfig, LanguageClient
 
 pytestmark = pytest.mark.asyncio(loop_scope="module")
 

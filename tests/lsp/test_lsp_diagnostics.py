@@ -5,10 +5,10 @@ close."""
 from __future__ import annotations
 
 import pytest
-from lsprotocol import types as lsp
-
 from harness.diagnostics import parsed
+from lsprotocol import types as lsp
 from lsptest import CASES, Doc
+
 from scriptc.analysis.analyze import analyze_script
 from scriptc.source import SourceFile
 
@@ -123,8 +123,8 @@ async def test_the_repository_configuration_applies(client, name):
     got = await doc.diagnostics()
     severity = {lsp.DiagnosticSeverity.Error: "error", lsp.DiagnosticSeverity.Warning: "warning",
                 lsp.DiagnosticSeverity.Information: "info"}
-    found = [(f"{d.range.start.line + 1}:{d.range.start.character + 1}-{d.range.end.line + 1}:"
-              f"{d.range.end.character + 1}", severity[d.severity], d.code, d.message) for d in got]
+    found = [((f"{d.range.start.line + 1}:{d.range.start.character + 1}-{d.range.end.line + 1}:"
+               f"{d.range.end.character + 1}"), severity[d.severity], d.code, d.message) for d in got]
     assert found == parsed(path.with_suffix(".lint").read_text(encoding="utf-8"))
     doc.close()
 

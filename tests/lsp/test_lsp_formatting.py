@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import pytest
 from lsprotocol import types as lsp
-
 from lsptest import Doc, apply_edits
+
 from scriptc.formatter import format_text
 
 pytestmark = pytest.mark.asyncio(loop_scope="module")

@@ -15,8 +15,9 @@ import random
 
 import pytest
 from lsprotocol import types as lsp
-
 from lsptest import CASES, diagnostics_of
+from pygls.exceptions import JsonRpcMethodNotFound
+
 from scriptc.analysis.analyze import analyze_script
 from scriptc.server import convert
 from scriptc.source import SourceFile
@@ -162,7 +163,7 @@ async def test_random_edits_and_garbage(client):
     symbols = await client.text_document_document_symbol_async(
         lsp.DocumentSymbolParams(lsp.TextDocumentIdentifier(uri)))
     assert symbols is None or isinstance(symbols, list)
-    with pytest.raises(Exception):
+    with pytest.raises(JsonRpcMethodNotFound):
         await client.protocol.send_request_async("scriptc/noSuchMethod", {})
     tokens = await client.text_document_semantic_tokens_full_async(
         lsp.SemanticTokensParams(lsp.TextDocumentIdentifier(uri)))

@@ -113,7 +113,7 @@ EDITS = 400
 
 def test_quick_edits_retain_nothing_and_make_no_cycles():
     done = subprocess.run([sys.executable, "-c", DRIVER, str(EDITS)], capture_output=True,
-                          text=True, timeout=300)
+                          text=True, timeout=300, check=False)
     assert done.returncode == 0, done.stderr[-3000:]
     figures = json.loads(done.stdout.strip().splitlines()[-1])
     assert figures["futures"] == 0

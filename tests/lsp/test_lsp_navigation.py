@@ -5,9 +5,8 @@ from __future__ import annotations
 import pytest
 import pytest_asyncio
 from lsprotocol import types as lsp
-from pygls.exceptions import JsonRpcException
-
 from lsptest import Doc, apply_edits
+from pygls.exceptions import JsonRpcException
 
 pytestmark = pytest.mark.asyncio(loop_scope="module")
 

@@ -5,7 +5,6 @@ from __future__ import annotations
 import pytest
 import pytest_asyncio
 from lsprotocol import types as lsp
-
 from lsptest import Doc
 
 pytestmark = pytest.mark.asyncio(loop_scope="module")

@@ -7,9 +7,9 @@ from __future__ import annotations
 
 import pytest
 from lsprotocol import types as lsp
+from lsptest import Doc, apply_edits
 from pygls.exceptions import JsonRpcException
 
-from lsptest import Doc, apply_edits
 from scriptc.analysis.analyze import analyze_script
 from scriptc.source import SourceFile
 
