@@ -13,15 +13,19 @@ from __future__ import annotations
 
 import difflib
 import re
+from enum import Enum
+from typing import Final
 
-from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit
 from scriptc.diagnostics.codes import diagnostic
+from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit
 from scriptc.gcpause import gc_paused
 from scriptc.ir import nodes as ir
 from scriptc.ir.fields import fields_pattern, read_number
 from scriptc.language import COMMENT_PATTERN, STRING_ESCAPES, STRING_PATTERN, TRACKS, unescape
 from scriptc.source import SourceFile, Span
-from scriptc.syntax.larkshim import Token, Tree  # the parse trees (lark stays behind syntax/)
+
+# The parse trees (lark stays behind syntax/): a child is read by its place in its rule.
+from scriptc.syntax.larkshim import Child, ParseTree, Token, Tree
 from scriptc.syntax.parser import ParsedScript, parse_condition_tree, parse_items
 
 MOVE_FIELDS = ("v_x", "v_y", "v_theta", "wait_t", "duration")
@@ -38,7 +42,7 @@ _TRUE_EVAL = re.compile(r"\{\s*TRUE\s*\}")
 _KINDS: dict[str, str] = {}
 
 
-def _kind(node: Tree | Token) -> str:
+def _kind(node: ParseTree | Token) -> str:
     """A rule or terminal name without the namespace lark adds to imported grammars."""
     name = node.data if isinstance(node, Tree) else node.type
     kind = _KINDS.get(name)
@@ -67,7 +71,15 @@ def _well_formed(track: str, raw: str) -> tuple[tuple[str, int, int], ...] | Non
 _SPLIT: dict[str, dict[str, tuple[tuple[str, int, int], ...] | None]] = {
     track: {} for track in _WELL_FORMED}
 _MAX_SPLIT = 4096
-_UNSEEN = object()
+
+
+class _Unseen(Enum):
+    """A command string not split yet (None is a split: not well formed)."""
+
+    UNSEEN = 0
+
+
+_UNSEEN: Final = _Unseen.UNSEEN
 
 # The parentheses of a condition, strings and comments skipped (either may hold one).
 _PARENS = re.compile(f"{STRING_PATTERN}|{COMMENT_PATTERN}|[()]")
@@ -93,12 +105,15 @@ class Lowerer:
     # -- leaves ---------------------------------------------------------------------------
 
     def span(self, token: Token) -> Span:
-        return _span(Span, (self.base + token.start_pos, self.base + token.end_pos))
+        start, end = token.start_pos, token.end_pos
+        assert start is not None and end is not None  # the parsers' tokens have their offsets
+        return _span(Span, (self.base + start, self.base + end))
 
     def name(self, token: Token, strip: int = 0) -> ir.Name:
         base = self.base
-        return ir.Name(token.value[strip:],
-                       _span(Span, (base + token.start_pos + strip, base + token.end_pos)))
+        start, end = token.start_pos, token.end_pos
+        assert start is not None and end is not None  # the parsers' tokens have their offsets
+        return ir.Name(token.value[strip:], _span(Span, (base + start + strip, base + end)))
 
     def string(self, token: Token) -> ir.Text:
         """A string literal's value; unknown escapes are reported and kept as written."""
@@ -107,8 +122,8 @@ class Lowerer:
         if "\\" not in raw:
             return ir.Text(raw, span)
 
-        def resolve(m: re.Match) -> str:
-            ch = m.group(1)
+        def resolve(m: re.Match[str]) -> str:
+            ch: str = m.group(1)
             if ch in STRING_ESCAPES:
                 return ch
             at = span.start + 1 + m.start()
@@ -122,7 +137,8 @@ class Lowerer:
                     fix=Fix("escape the backslash", (TextEdit(Span(at, at + 1), "\\\\"),)),
                 )
             )
-            return m.group(0)
+            written: str = m.group(0)
+            return written
 
         return ir.Text(_ESCAPE.sub(resolve, raw), span)
 
@@ -139,18 +155,21 @@ class Lowerer:
         name: ir.Name | None = None
         alfa: list[ir.RuleMessage] = []
         omega: list[ir.RuleMessage] = []
-        goals: list[tuple[ir.Name, Span, list]] = []  # (id, span, actions)
-        actions: list[tuple[Span, list]] | None = None  # actions of the current goal
-        blocks: list | None = None  # blocks of the current action
+        # (id, span, actions) per goal; (span, blocks) per action
+        goals: list[tuple[ir.Name, Span, list[tuple[Span, list[ir.Block]]]]] = []
+        actions: list[tuple[Span, list[ir.Block]]] | None = None  # actions of the current goal
+        blocks: list[ir.Block] | None = None  # blocks of the current action
         first = True
+        word: Child  # the word of a name item, the id of a goal: a NAME token (or None)
         for item in parsed.items:
             self.base = item.base
             tree = item.tree
             kind = _kind(tree)
             if first:
                 first = False
-                if kind == "name_item" and str(tree.children[0]) != "action":
-                    name = self.name(tree.children[0])
+                word = tree.children[0]
+                if kind == "name_item" and str(word) != "action":
+                    name = self.name(word)
                     continue
                 self.diagnostics.append(
                     diagnostic(
@@ -158,7 +177,8 @@ class Lowerer:
                         "a script must start with its activity name",
                         Span(item.span.start, item.span.start),
                         help="add `[activityname]` as the first item, e.g. `[greeting]`",
-                        fix=Fix("add an activity name", (TextEdit(Span(0, 0), "[activity]\n"),), safe=False),
+                        fix=Fix("add an activity name",
+                                (TextEdit(Span(0, 0), "[activity]\n"),), safe=False),
                     )
                 )
             if kind == "name_item":
@@ -177,23 +197,26 @@ class Lowerer:
                 if message is None:
                     continue
                 if goals:
-                    self._misplaced(item.span, f"{message.kind} messages", "before the first goal", goals[0][1])
+                    self._misplaced(item.span, f"{message.kind} messages",
+                                    "before the first goal", goals[0][1])
                 elif message.kind == "alfa" and omega:
-                    self._misplaced(item.span, "alfa messages", "before the omega messages", omega[0].span)
+                    self._misplaced(item.span, "alfa messages", "before the omega messages",
+                                    omega[0].span)
                 if message.kind == "alfa":
                     alfa.append(message)
                 else:
                     omega.append(message)
 
             elif kind == "goal_item":
-                token = tree.children[0]
-                if token is None:
+                word = tree.children[0]
+                if word is None:
                     self.diagnostics.append(
-                        diagnostic("S007", "goal without an id", item.span, help="name the goal: `[goal:greet]`")
+                        diagnostic("S007", "goal without an id", item.span,
+                                   help="name the goal: `[goal:greet]`")
                     )
                     goal_id = ir.Name("", item.span)
                 else:
-                    goal_id = self.name(token)
+                    goal_id = self.name(word)
                 actions = []
                 blocks = None
                 goals.append((goal_id, item.span, actions))
@@ -211,12 +234,14 @@ class Lowerer:
             if lost_items:
                 return None
             end = len(source.text)
+            blank = not source.text.strip()
             self.diagnostics.append(
                 diagnostic(
                     "S001",
-                    "the file holds no script" if not source.text.strip() else "the file holds no item",
-                    Span(0, min(end, 1) if source.text.strip() else 0),
-                    help="a script starts with `[activityname]`, then `[goal:ID]`, `[action]` and blocks",
+                    "the file holds no script" if blank else "the file holds no item",
+                    Span(0, 0 if blank else min(end, 1)),
+                    help="a script starts with `[activityname]`, then `[goal:ID]`, `[action]` "
+                    "and blocks",
                 )
             )
             return None
@@ -231,28 +256,31 @@ class Lowerer:
                     help="add `[goal:ID]`, `[action]` and at least one block",
                 )
             )
-        built_goals = []
+        built_goals: list[ir.Goal] = []
         for goal_id, goal_span, goal_actions in goals:
             if not goal_actions and not lost_items:
                 self.diagnostics.append(
                     diagnostic("S005", f"goal `{goal_id.text}` has no action", goal_span,
                                help="add `[action]` and its blocks after the goal")
                 )
-            built_actions = []
+            built_actions: list[ir.Action] = []
             for action_span, action_blocks in goal_actions:
                 if not action_blocks and not lost_items:
                     self.diagnostics.append(
                         diagnostic("S006", "action has no block", action_span,
-                                   help="add a block, e.g. `[b##blk_terminus]`, or remove the action")
+                                   help="add a block, e.g. `[b##blk_terminus]`, or remove the "
+                                   "action")
                     )
                 built_actions.append(ir.Action(tuple(action_blocks), action_span))
             built_goals.append(ir.Goal(goal_id, tuple(built_actions), goal_span))
-        return ir.Script(name, tuple(alfa), tuple(omega), tuple(built_goals), Span(0, len(source.text)))
+        return ir.Script(name, tuple(alfa), tuple(omega), tuple(built_goals),
+                         Span(0, len(source.text)))
 
     def _orphan(self, span: Span, what: str, needs: str, insert: str | None = None) -> None:
         fix = None
         if insert:
-            fix = Fix(f"add `{insert}` before it", (TextEdit(Span(span.start, span.start), insert + "\n"),), safe=False)
+            fix = Fix(f"add `{insert}` before it",
+                      (TextEdit(Span(span.start, span.start), insert + "\n"),), safe=False)
         self.diagnostics.append(
             diagnostic("S002", f"{what} must come after {needs}", span,
                        help=f"add {needs} before it", fix=fix)
@@ -269,7 +297,8 @@ class Lowerer:
         text = str(word)
         close = difflib.get_close_matches(text, ["action"], n=1, cutoff=0.6)
         fix = None
-        help_ = "the items are `[activityname]` (first), `[alfa:...]`, `[omega:...]`, `[goal:ID]`, `[action]` and blocks `[b#LABEL#...]`"
+        help_ = ("the items are `[activityname]` (first), `[alfa:...]`, `[omega:...]`, "
+                 "`[goal:ID]`, `[action]` and blocks `[b#LABEL#...]`")
         if close:
             help_ = f"did you mean `[{close[0]}]`?"
             fix = Fix(f"replace with `{close[0]}`", (TextEdit(self.span(word), close[0]),))
@@ -280,26 +309,27 @@ class Lowerer:
 
     # -- rule messages --------------------------------------------------------------------
 
-    def rule_message(self, tree: Tree, span: Span) -> ir.RuleMessage | None:
-        kind_token, *fields = tree.children
-        kind = str(kind_token)
-        fields = [f for f in fields if f is not None]
+    def rule_message(self, tree: ParseTree, span: Span) -> ir.RuleMessage | None:
+        children: list[Child] = tree.children  # ALFA or OMEGA, then the fields (tokens)
+        kind = str(children[0])
+        fields = [f for f in children[1:] if f is not None]
         if len(fields) != 6:
             self.diagnostics.append(
                 diagnostic(
                     "S009",
-                    f"{kind} message has {len(fields)} field{'s' if len(fields) != 1 else ''}, expected 6",
+                    f"{kind} message has {len(fields)} field{'s' if len(fields) != 1 else ''}, "
+                    "expected 6",
                     span,
                     notes=(f"the fields are {', '.join(RULE_FIELDS)}",),
-                    help=f'write `[{kind}:RULECODE, ID, "INTOPIC", "OUTTOPIC", ACTION, MUTEX]`, e.g. '
-                    f'`[{kind}:0, kick_starter, "", "", C, U]`',
+                    help=f'write `[{kind}:RULECODE, ID, "INTOPIC", "OUTTOPIC", ACTION, MUTEX]`, '
+                    f'e.g. `[{kind}:0, kick_starter, "", "", C, U]`',
                 )
             )
             return None
         rulecode_t, id_t, in_t, out_t, action_t, mutex_t = fields
         ok = True
         expected_types = (("NUMBER",), ("NAME",), ("STRING",), ("STRING",), ("NAME",), ("NAME",))
-        for field_name, token, types in zip(RULE_FIELDS, fields, expected_types):
+        for field_name, token, types in zip(RULE_FIELDS, fields, expected_types, strict=True):
             if _kind(token) not in types:
                 if field_name == "rulecode":
                     _, problem = read_number(str(token), self.span(token), "the rulecode")
@@ -333,14 +363,16 @@ class Lowerer:
 
     # -- blocks ---------------------------------------------------------------------------
 
-    def block(self, tree: Tree, span: Span) -> ir.Block | None:
-        label_t, body = tree.children
+    def block(self, tree: ParseTree, span: Span) -> ir.Block | None:
+        children: list[Child] = tree.children  # the label (a NAME token or None), the body
+        label_t, body = children
         label = self.name(label_t) if label_t is not None else None
         kind = _kind(body)
         if kind == "inst_body":
             return self.instruction(label, body, span)
         if kind == "jump_body":
-            cond_tree, true_t, false_t = body.children
+            body_children: list[Child] = body.children  # the condition, two labels or None
+            cond_tree, true_t, false_t = body_children
             cond_span = self._cnd_span(span)
             condition = self.condition(cond_tree, cond_span)
             return ir.JumpBlock(
@@ -357,31 +389,39 @@ class Lowerer:
         payload = tuple(self.string(t) for t in body.children[1:] if t is not None)
         return ir.SensorBlock(label, payload, span)
 
-    def instruction(self, label: ir.Name | None, body: Tree, span: Span) -> ir.InstructionBlock:
-        tracks: dict[str, list] = {"MV": [], "LD": [], "AO": []}
+    def instruction(self, label: ir.Name | None, body: ParseTree,
+                    span: Span) -> ir.InstructionBlock:
+        moves: list[ir.MoveCommand] = []
+        leds: list[ir.LedCommand] = []
+        audios: list[ir.AudioCommand] = []
         seen: list[tuple[str, Span]] = []
         base, text_base = self.base, self.text_base
-        for track in body.children:
-            children = track.children
+        track_trees: list[Child] = body.children  # the tracks' trees
+        for track in track_trees:
+            children: list[Child] = track.children  # MV, LD or AO, then strings or None
             name_t = children[0]
             track_name = name_t.value
-            commands = tracks[track_name]
             last = name_t
             for token in children[1:]:
                 if token is None:
                     continue
                 last = token
+                # (the command of a track is the track's kind: MV a move, LD a led, AO audio)
                 command = self.command(track_name, token)
-                if command is not None:
-                    commands.append(command)
+                if isinstance(command, ir.MoveCommand):
+                    moves.append(command)
+                elif isinstance(command, ir.LedCommand):
+                    leds.append(command)
+                elif command is not None:
+                    audios.append(command)
             last_end = base + last.end_pos
             close = self.text.find(")", last_end - text_base)
             end = text_base + close + 1 if close != -1 else last_end
             seen.append((track_name, _span(Span, (base + name_t.start_pos, end))))
         self._check_tracks(seen, body, span)
-        return ir.InstructionBlock(label, tuple(tracks["MV"]), tuple(tracks["LD"]), tuple(tracks["AO"]), span)
+        return ir.InstructionBlock(label, tuple(moves), tuple(leds), tuple(audios), span)
 
-    def _check_tracks(self, seen: list[tuple[str, Span]], body: Tree, span: Span) -> None:
+    def _check_tracks(self, seen: list[tuple[str, Span]], body: ParseTree, span: Span) -> None:
         names = [n for n, _ in seen]
         if names == list(TRACKS):
             return
@@ -396,14 +436,15 @@ class Lowerer:
         order = [n for n in names if n in TRACKS]
         if order != sorted(order, key=TRACKS.index):
             self.diagnostics.append(
-                diagnostic("S008", f"tracks are written `MV() LD() AO()` in this order, found `{' '.join(n + '()' for n in names)}`",
+                diagnostic("S008", "tracks are written `MV() LD() AO()` in this order, found "
+                           f"`{' '.join(n + '()' for n in names)}`",
                            Span(seen[0][1].start, seen[-1][1].end),
                            help="reorder the tracks")
             )
             return
         missing = [n for n in TRACKS if n not in names]
         # Insert each missing track before the first present track that follows it.
-        edits = []
+        edits: list[TextEdit] = []
         for n in missing:
             after = [s for m, s in seen if TRACKS.index(m) > TRACKS.index(n)]
             at = after[0].start if after else (seen[-1][1].end if seen else span.end - 1)
@@ -413,7 +454,8 @@ class Lowerer:
         where = Span(span.end - 1, span.end)
         self.diagnostics.append(
             diagnostic("S008", f"instruction block without {listed}", where,
-                       notes=("every instruction block lists `MV()`, `LD()` and `AO()`, each possibly empty",),
+                       notes=(("every instruction block lists `MV()`, `LD()` and `AO()`, "
+                               "each possibly empty"),),
                        help=f"add {listed}",
                        fix=Fix(f"add {listed}", tuple(edits)))
         )
@@ -422,28 +464,28 @@ class Lowerer:
         """Split a command string into its fields, each with its own span. The raw text is
         split (neither escape holds a comma), so spans are exact and blanks inside a field,
         such as an audio path's, are kept; each field is unescaped afterwards."""
-        raw = token.value[1:-1]
-        start = self.base + token.start_pos + 1
+        raw: str = token.value[1:-1]
+        first, last = token.start_pos, token.end_pos
+        assert first is not None and last is not None  # the parsers' tokens have their offsets
+        start = self.base + first + 1
         split = _SPLIT[track]
-        fields = split.get(raw, _UNSEEN)
-        if fields is _UNSEEN:
+        well_formed = split.get(raw, _UNSEEN)
+        if well_formed is _UNSEEN:
             if len(split) >= _MAX_SPLIT:
                 split.clear()
-            fields = split[raw] = _well_formed(track, raw)
-        if fields is not None:
+            well_formed = split[raw] = _well_formed(track, raw)
+        if well_formed is not None:
             # The common case: every field there and a number (the path of an audio command,
             # text); what follows reads the same fields the same way.
-            whole = Span(start - 1, self.base + token.end_pos)
+            whole = Span(start - 1, self.base + last)
             numbers = [ir.Number(text, _span(Span, (start + a, start + b)))
-                       for text, a, b in fields]
-            if track == "MV":
-                return ir.MoveCommand(*numbers, span=whole)
-            if track == "LD":
-                return ir.LedCommand(*numbers, span=whole)
-            path = numbers.pop(0)
-            return ir.AudioCommand(ir.Text(path.text, path.span), *numbers, span=whole)
+                       for text, a, b in well_formed]
+            if track != "AO":
+                return _command(track, numbers, None, whole)
+            path_field = numbers.pop(0)
+            return _command(track, numbers, ir.Text(path_field.text, path_field.span), whole)
         self.string(token)  # reports unknown escapes once, for the whole string
-        fields = []
+        fields: list[tuple[str, Span]] = []
         pos = 0
         for part in raw.split(","):
             lead = len(part) - len(part.lstrip())
@@ -452,24 +494,26 @@ class Lowerer:
             fields.append((stripped, Span(at, at + len(stripped))))
             pos += len(part) + 1
         whole = self.span(token)
+        names: tuple[str, ...]
         if track == "AO":
             names = AUDIO_FIELDS
             if len(fields) >= 3:
                 path_fields = fields[:-2]
                 p0, p1 = path_fields[0][1].start, path_fields[-1][1].end
-                fields = [(self._text(Span(p0, p1)), Span(p0, p1))] + fields[-2:]
+                fields = [(self._text(Span(p0, p1)), Span(p0, p1)), *fields[-2:]]
         else:
             names = MOVE_FIELDS if track == "MV" else LED_FIELDS
         if len(fields) != len(names) or (len(fields) == 1 and not fields[0][0]):
             what = {"MV": "move", "LD": "led", "AO": "audio"}[track]
             count = 0 if len(fields) == 1 and not fields[0][0] else len(fields)
             self.diagnostics.append(
-                diagnostic("V001", f"{what} command has {count} field{'s' if count != 1 else ''}, expected {len(names)}",
+                diagnostic("V001", f"{what} command has {count} field{'s' if count != 1 else ''}, "
+                           f"expected {len(names)}",
                            whole, notes=(f"a {what} command is `\"{', '.join(names)}\"`",))
             )
             return None
         numbers = []
-        for (value, fspan), fname in zip(fields, names):
+        for (value, fspan), fname in zip(fields, names, strict=True):  # (counted above)
             if fname == "track_path":
                 continue
             number, problem = read_number(value, fspan, f"`{fname}`")
@@ -477,11 +521,8 @@ class Lowerer:
                 self.diagnostics.append(problem)
                 return None
             numbers.append(number)
-        if track == "MV":
-            return ir.MoveCommand(*numbers, span=whole)
-        if track == "LD":
-            return ir.LedCommand(*numbers, span=whole)
-        return ir.AudioCommand(ir.Text(unescape(fields[0][0]), fields[0][1]), *numbers, span=whole)
+        path = ir.Text(unescape(fields[0][0]), fields[0][1]) if track == "AO" else None
+        return _command(track, numbers, path, whole)
 
     # -- conditions -----------------------------------------------------------------------
 
@@ -511,18 +552,21 @@ class Lowerer:
         tb = self.text_base
         start = self.text.rfind(open_, 0, span.start - tb)
         end = self.text.find(close, span.end - tb)
-        return Span(tb + start if start != -1 else span.start, tb + end + 1 if end != -1 else span.end)
+        return Span(tb + start if start != -1 else span.start,
+                    tb + end + 1 if end != -1 else span.end)
 
-    def condition(self, tree: Tree, span: Span) -> ir.Condition:
+    def condition(self, tree: ParseTree, span: Span) -> ir.Condition:
         kind = _kind(tree)
         if kind == "true_condition":
             return ir.Condition((), (), span, bare_true=True)
-        assignments = []
-        evaluations = []
-        for child in tree.children:
+        assignments: list[ir.Assignment] = []
+        evaluations: list[ir.Evaluation] = []
+        parts: list[Child] = tree.children  # the assignments' and evaluations' trees
+        for child in parts:
             k = _kind(child)
+            children: list[Child] = child.children  # by the rule `k`, below
             if k == "class_assignment":
-                class_t, scope_t, alias_t, *tests = child.children
+                class_t, scope_t, alias_t, *tests = children
                 class_name = self.name(class_t, strip=1)
                 lowered = tuple(self.test(t) for t in tests if t is not None)
                 end = lowered[-1].span.end if lowered else self.span(alias_t).end
@@ -536,7 +580,7 @@ class Lowerer:
                     )
                 )
             elif k == "var_assignment":
-                var_t, scope_t, f_call = child.children
+                var_t, scope_t, f_call = children
                 var = ir.VarRef(self.name(var_t), self.span(var_t))
                 call = self.call(f_call.children[0], "F")
                 assignments.append(
@@ -548,8 +592,8 @@ class Lowerer:
                     )
                 )
             elif k == "att_assignment":
-                alias_node, att_t, scope_t, f_call = child.children
-                alias = self.value(alias_node)
+                alias_node, att_t, scope_t, f_call = children
+                alias = self.alias_of(alias_node)
                 call = self.call(f_call.children[0], "F")
                 assignments.append(
                     ir.AttAssignment(
@@ -561,33 +605,37 @@ class Lowerer:
                     )
                 )
             elif k == "e_evaluation":
-                call = self.call(child.children[0], "E")
+                call = self.call(children[0], "E")
                 evaluations.append(ir.CallEvaluation(call, self._enclose(call.span, "{", "}")))
             elif k == "true_evaluation":
                 # `{TRUE}` has no token in the tree: find it after what came before it.
                 after = evaluations[-1].span.end if evaluations else (
                     assignments[-1].span.end if assignments else span.start)
-                evaluations.append(ir.TrueEvaluation(self._find(_TRUE_EVAL, Span(after, span.end))))
+                evaluations.append(
+                    ir.TrueEvaluation(self._find(_TRUE_EVAL, Span(after, span.end))))
         return ir.Condition(tuple(assignments), tuple(evaluations), span)
 
-    def _find(self, pattern: re.Pattern, within: Span) -> Span:
+    def _find(self, pattern: re.Pattern[str], within: Span) -> Span:
         tb = self.text_base
         m = pattern.search(self.text, within.start - tb, within.end - tb)
         return Span(tb + m.start(), tb + m.end()) if m else within
 
-    def test(self, node: Tree) -> ir.Test:
+    def test(self, node: ParseTree) -> ir.Test:
         k = _kind(node)
+        children: list[Child] = node.children  # by the rule `k`
         if k == "field_test":
-            this_t, _access, field_t, op_t, value = node.children
+            this_t, _access, field_t, op_t, value = children
             lowered = self.value(value)
             span = Span(self.base + this_t.start_pos, lowered.span.end)
             return ir.FieldTest(self.name(field_t), self.name(op_t), lowered, span)
-        call = self.call(node.children[0], "B")
+        call = self.call(children[0], "B")
         start = self.text.rfind("B", 0, call.span.start - self.text_base)
-        return ir.CallTest(call, Span(self.text_base + start if start != -1 else call.span.start, call.span.end))
+        return ir.CallTest(call, Span(self.text_base + start if start != -1 else call.span.start,
+                                      call.span.end))
 
-    def call(self, node: Tree, kind: str) -> ir.Call:
-        name_t, *args = node.children
+    def call(self, node: ParseTree, kind: str) -> ir.Call:
+        children: list[Child] = node.children  # the name, then values' trees or None
+        name_t, *args = children
         values = tuple(self.value(a) for a in args if a is not None)
         name = self.name(name_t)
         last = values[-1].span.end if values else name.span.end
@@ -598,29 +646,50 @@ class Lowerer:
     def alias(self, token: Token) -> ir.AliasRef:
         return ir.AliasRef(self.name(token), self.span(token))
 
-    def value(self, node: Tree | Token) -> ir.Value:
+    def alias_of(self, node: ParseTree) -> ir.AliasRef:
+        """An `alias` or `this` tree (the grammar's `alias_or_this`)."""
+        token: Child = node.children[0]  # ALIAS or THIS
+        return self.alias(token)
+
+    def value(self, node: ParseTree) -> ir.Value:
         k = _kind(node)
+        children: list[Child] = node.children  # by the rule `k`
         if k == "number":
-            t = node.children[0]
+            t = children[0]
             return ir.NumberValue(ir.Number(str(t), self.span(t)))
         if k == "string":
-            return ir.StringValue(self.string(node.children[0]))
+            return ir.StringValue(self.string(children[0]))
         if k in ("alias", "this"):
-            return self.alias(node.children[0])
+            return self.alias(children[0])
         if k == "field_ref":
-            alias_node, _access, field_t = node.children
-            alias = self.value(alias_node)
+            alias_node, _access, field_t = children
+            alias = self.alias_of(alias_node)
             field = self.name(field_t)
             return ir.FieldRef(alias, field, Span(alias.span.start, field.span.end))
         if k == "att_ref":
-            alias_node, _access, att_t = node.children
-            alias = self.value(alias_node)
+            alias_node, _access, att_t = children
+            alias = self.alias_of(alias_node)
             att = self.name(att_t)
             return ir.AttRef(alias, att, Span(alias.span.start, att.span.end))
         if k == "var_ref":
-            t = node.children[0]
+            t = children[0]
             return ir.VarRef(self.name(t), self.span(t))
         raise AssertionError(f"unknown value node {k}")
+
+
+def _command(track: str, numbers: list[ir.Number], path: ir.Text | None,
+             span: Span) -> ir.Command:
+    """The command of `track` (MV, LD or AO) with its numbers, in the order of the fields (an
+    audio command's path apart)."""
+    if track == "MV":
+        v_x, v_y, v_theta, wait_t, duration = numbers
+        return ir.MoveCommand(v_x, v_y, v_theta, wait_t, duration, span)
+    if track == "LD":
+        r, g, b, turnas, wait_t, duration = numbers
+        return ir.LedCommand(r, g, b, turnas, wait_t, duration, span)
+    assert path is not None  # (an audio command's first field)
+    wait_t, duration = numbers
+    return ir.AudioCommand(path, wait_t, duration, span)
 
 
 def lower_script(source: SourceFile) -> tuple[ir.Script | None, list[Diagnostic]]:
