@@ -55,7 +55,9 @@ def emit(script: Script, back_end: str = "json", source: SourceFile | None = Non
     import importlib
 
     _suffix, module, function = EMITTERS[back_end]
-    emitter = getattr(importlib.import_module(module), function)
+    # the back end's function, found by name (EMITTERS): the script (and source) in, text or
+    # bytes out
+    emitter: Callable[..., str | bytes] = getattr(importlib.import_module(module), function)
     with gc_paused():
         if back_end in _WITH_SOURCE:
             return emitter(script, source)

@@ -29,12 +29,12 @@ def unified_diff(old: str, new: str, name: str) -> str:
     """A unified diff of two texts, line endings kept, `\\ No newline at end of file` marked."""
     import difflib
 
-    out = []
+    out: list[str] = []
     for line in difflib.unified_diff(_LINES.findall(old), _LINES.findall(new),
                                      fromfile=name, tofile=name):
-        if not line.endswith(("\n", "\r")):
-            line += "\n\\ No newline at end of file\n"
         out.append(line)
+        if not line.endswith(("\n", "\r")):
+            out.append("\n\\ No newline at end of file\n")
     return "".join(out)
 
 

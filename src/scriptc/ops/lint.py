@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Callable
-from typing import Any
+from typing import TYPE_CHECKING, TypeAlias
 
 from scriptc import interrupt
 from scriptc.analysis.analyze import Analysis, analyze_source
@@ -35,6 +35,15 @@ from scriptc.project.files import discover
 from scriptc.project.setup import Setup, function_registry
 from scriptc.source import SourceFile, SourceKind
 from scriptc.writing import WriteError, write_file
+
+if TYPE_CHECKING:  # types only: `scriptc lint` imports this module on every run
+    from concurrent.futures import ProcessPoolExecutor
+
+    from scriptc.ir.builtins import Function
+    from scriptc.project.cache import Cache
+    from scriptc.project.config.load import ConfigFile
+    from scriptc.project.config.settings import RuleSelection, Settings
+    from scriptc.robot.profile import Profile
 
 __all__ = [
     "MAX_FIX_ROUNDS",
@@ -58,7 +67,8 @@ class LintOptions:
                  fix: bool = False, config: str | None = None, isolated: bool = False,
                  force_exclude: bool = False,
                  progress: Callable[[int, int], None] | None = None, *,
-                 diff: bool = False, unsafe_fixes: bool = False, selection=None) -> None:
+                 diff: bool = False, unsafe_fixes: bool = False,
+                 selection: RuleSelection | None = None) -> None:
         self.cache = cache
         self.cache_dir = cache_dir
         self.jobs = jobs
@@ -107,19 +117,24 @@ class LintRun:
     they changed. `unsafe_fixes`: whether the unsafe fixes count as available."""
 
     def __init__(self, files: int = 0, unsafe_fixes: bool = False) -> None:
-        self.results: list[Any] = []
+        self.config_files: list[ConfigFile] = []  # the configuration files that have problems
+        self.reports: list[FileReport] = []  # the files' reports
         self.problems: list[str] = []
         self.files = files
         self.cached = 0
         self.fixed = 0
         self.fixed_files = 0
         self.unsafe_fixes = unsafe_fixes
-        self.configs = 0  # how many of `results`, at the start, are configuration files
 
     @property
-    def reports(self) -> list[FileReport]:
-        """The files' reports (`results` without the configuration files)."""
-        return self.results[self.configs:]
+    def results(self) -> list[ConfigFile | FileReport]:
+        """The configuration files that have problems, then the files' reports."""
+        return [*self.config_files, *self.reports]
+
+    @property
+    def configs(self) -> int:
+        """How many of `results`, at the start, are configuration files."""
+        return len(self.config_files)
 
     @property
     def exit_code(self) -> int:
@@ -160,7 +175,7 @@ def available_cores() -> int:
 
 # A task is one file to analyse, in a worker or here: (name, text, kind, the declared
 # functions' signatures, the robot profile). Plain data, cheap to send to a worker.
-Task = tuple[str, str, SourceKind, tuple, Any]
+Task: TypeAlias = "tuple[str, str, SourceKind, tuple[Function, ...], Profile]"
 
 
 def _analyze_task(task: Task) -> list[Diagnostic]:
@@ -234,7 +249,7 @@ def _analyze_parallel(tasks: list[Task], jobs: int,
             ready, _ = wait(pending, return_when=FIRST_COMPLETED)
             for future in ready:
                 chunk = pending.pop(future)
-                for i, diagnostics in zip(chunk, future.result()):
+                for i, diagnostics in zip(chunk, future.result(), strict=True):  # one per task
                     finished.add(i)
                     done(i, diagnostics)
     except BrokenProcessPool:
@@ -263,7 +278,7 @@ def _worker_start() -> None:
         signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT, signal.SIGTERM})
 
 
-def _stop_workers(pool) -> None:
+def _stop_workers(pool: ProcessPoolExecutor) -> None:
     """Stop a process pool at once: pending work cancelled, the workers terminated and
     waited for (none is left behind). `shutdown` alone would wait for the chunks already
     running; the pool has no public way to terminate its workers before Python 3.14
@@ -332,7 +347,7 @@ def lint_paths(paths: list[str] | tuple[str, ...], kind: SourceKind = SourceKind
     run.problems += problems
     setups: dict[int, Setup] = {}  # one per configuration (by the Settings' identity)
 
-    def setup_of(settings: Any) -> Setup:
+    def setup_of(settings: Settings) -> Setup:
         setup = setups.get(id(settings))
         if setup is None:
             setup = setups[id(settings)] = Setup(settings)
@@ -427,13 +442,12 @@ def lint_paths(paths: list[str] | tuple[str, ...], kind: SourceKind = SourceKind
             run.fixed_files += 1 if report.fixed else 0
         reports.append(report)
 
-    configs = [c for c in resolver.configs if c.diagnostics]
-    run.results = [*configs, *reports]
-    run.configs = len(configs)
+    run.config_files = [c for c in resolver.configs if c.diagnostics]
+    run.reports = reports
     return run
 
 
-def _fix_file(report: FileReport, entry: _Entry, kind: SourceKind, cache, *,
+def _fix_file(report: FileReport, entry: _Entry, kind: SourceKind, cache: Cache | None, *,
               unsafe: bool = False, write: bool = True) -> FileReport:
     """Apply the safe fixes of a file (the unsafe ones too with `unsafe`) until none is left
     (or MAX_FIX_ROUNDS), re-linting after each round; write the file atomically when it

@@ -20,8 +20,10 @@ hidden behind the results of the old code.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
+from functools import cache
 from typing import Any
 
 from scriptc import __version__
@@ -41,9 +43,6 @@ try:  # the builtin module: hashlib would import OpenSSL (5 ms of cold start)
 except ImportError:  # pragma: no cover - other Python implementations
     from hashlib import blake2b
 
-_fingerprint: str | None = None
-
-
 def digest(*parts: bytes | str) -> str:
     """A hex digest of the parts (each length-prefixed, so that parts cannot run together)."""
     h = blake2b(digest_size=20)
@@ -54,36 +53,32 @@ def digest(*parts: bytes | str) -> str:
     return h.hexdigest()
 
 
+@cache
 def code_fingerprint() -> str:
     """The version of scriptc and the size and modification time of each of its modules and
-    grammar files (about a hundred `stat` calls, once per process)."""
-    global _fingerprint
-    if _fingerprint is None:
-        from scriptc.resources import data_dir
+    grammar files (about a hundred `stat` calls, once per process: memoised)."""
+    from scriptc.resources import data_dir
 
-        package = os.path.dirname(os.path.abspath(__file__))
-        rows = [__version__]
-        folders = [package]
+    package = os.path.dirname(os.path.abspath(__file__))
+    rows = [__version__]
+    folders = [package]
+    with contextlib.suppress(FileNotFoundError):
+        folders.append(str(data_dir("grammar")))
+    while folders:
+        folder = folders.pop()
         try:
-            folders.append(str(data_dir("grammar")))
-        except FileNotFoundError:
-            pass
-        while folders:
-            folder = folders.pop()
-            try:
-                entries = list(os.scandir(folder))
-            except OSError:
-                continue
-            for entry in entries:
-                if entry.is_dir(follow_symlinks=False):
-                    if entry.name != "__pycache__":
-                        folders.append(entry.path)
-                elif entry.name.endswith((".py", ".lark")):
-                    st = entry.stat()
-                    rows.append(f"{entry.path}\0{st.st_mtime_ns}\0{st.st_size}")
-        rows.sort()
-        _fingerprint = digest("\n".join(rows))
-    return _fingerprint
+            entries = list(os.scandir(folder))
+        except OSError:
+            continue
+        for entry in entries:
+            if entry.is_dir(follow_symlinks=False):
+                if entry.name != "__pycache__":
+                    folders.append(entry.path)
+            elif entry.name.endswith((".py", ".lark")):
+                st = entry.stat()
+                rows.append(f"{entry.path}\0{st.st_mtime_ns}\0{st.st_size}")
+    rows.sort()
+    return digest("\n".join(rows))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -165,10 +160,8 @@ class Cache:
                            (".gitignore", "# Created by scriptc: the cache is not source.\n*\n")):
             target = os.path.join(self.folder, name)
             if not os.path.exists(target):
-                try:
+                with contextlib.suppress(FileExistsError):  # another run made it meanwhile
                     create_file(target, text.encode("utf-8"))
-                except FileExistsError:
-                    pass  # another run made it meanwhile
         self._made.add(self.folder)
 
     # Results of analysing one file.

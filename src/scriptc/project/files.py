@@ -22,9 +22,9 @@ import os
 from collections.abc import Callable
 from typing import Any
 
+from scriptc.encoding import without_bom
 from scriptc.paths import repository_root, shown_path
 from scriptc.source import SourceKind
-from scriptc.encoding import without_bom
 
 SCRIPT_SUFFIX = ".script"
 
@@ -40,7 +40,7 @@ def _compile(lines: list[str]) -> Any | None:
         return None
     try:
         return pathspec.GitIgnoreSpec.from_lines(lines)
-    except Exception:  # noqa: BLE001 - a broken .gitignore is git's business, not ours
+    except Exception:  # a broken .gitignore is git's business, not ours
         return None
 
 

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 from typing import Any
 from urllib.parse import urlsplit
 
-__all__ = ["Provenance", "provenance", "PLACEHOLDER", "extra_install_command"]
+__all__ = ["PLACEHOLDER", "Provenance", "extra_install_command", "provenance"]
 
 DISTRIBUTION = "scriptc"
 

@@ -12,11 +12,15 @@ the signatures (plain data) and build the same registry the parent would.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any
+from typing import TYPE_CHECKING
 
 from scriptc.diagnostics.model import Diagnostic, has_errors
 from scriptc.ir.builtins import STANDARD, Function, FunctionRegistry
 from scriptc.robot.profile import Profile
+
+if TYPE_CHECKING:  # the configuration is imported when a setup is made from files
+    from scriptc.project.config.load import ConfigFile
+    from scriptc.project.config.settings import Settings
 
 __all__ = ["Setup", "function_registry", "setup_for"]
 
@@ -42,7 +46,7 @@ class Setup:
 
     __slots__ = ("functions", "problems", "profile", "settings", "signatures")
 
-    def __init__(self, settings: Any, problems: Sequence[Any] = ()) -> None:
+    def __init__(self, settings: Settings, problems: Sequence[ConfigFile] = ()) -> None:
         self.settings = settings
         self.signatures: tuple[Function, ...] = tuple(f.signature for f in settings.functions)
         self.functions = function_registry(self.signatures)

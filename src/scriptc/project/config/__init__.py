@@ -17,10 +17,22 @@ cached check), `pathspec` only for per-file ignores and exclusions.
 
 from __future__ import annotations
 
-from scriptc.project.config.load import (ConfigFile, Resolver, build_settings, find_config, load_config,
-                                         project_root)
-from scriptc.project.config.settings import (ImplementationError, RuleSelection, Settings,
-                                             UserFunction, UserRule, import_implementation)
+from scriptc.project.config.load import (
+    ConfigFile,
+    Resolver,
+    build_settings,
+    find_config,
+    load_config,
+    project_root,
+)
+from scriptc.project.config.settings import (
+    ImplementationError,
+    RuleSelection,
+    Settings,
+    UserFunction,
+    UserRule,
+    import_implementation,
+)
 
 __all__ = [
     "ConfigFile", "ImplementationError", "Resolver", "RuleSelection", "Settings",

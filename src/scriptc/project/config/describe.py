@@ -10,11 +10,13 @@ import os
 from dataclasses import dataclass, field
 from typing import Any
 
-from scriptc.project.config.load import Resolver, project_root
-from scriptc.paths import shown_path
-from scriptc.project.config.settings import Settings
-from scriptc.robot.limits import LIMITS
 from scriptc.diagnostics.model import Diagnostic, Severity
+from scriptc.paths import shown_path
+from scriptc.project.config.load import Resolver, project_root
+from scriptc.project.config.settings import Settings
+from scriptc.project.config.tomlpos import KeySpans
+from scriptc.robot.limits import LIMITS
+from scriptc.source import SourceFile
 
 
 @dataclass(frozen=True)
@@ -53,7 +55,7 @@ class SettingsReport:
     codes: dict[str, tuple[bool, Severity]] = field(default_factory=dict)
     ignored_here: tuple[str, ...] = ()
     problems: list[Diagnostic] = field(default_factory=list)
-    source: Any = None  # the configuration's SourceFile, for showing its problems
+    source: SourceFile | None = None  # the configuration, for showing its problems
 
 
 def _values(settings: Settings) -> list[tuple[tuple[str, ...], Any]]:
@@ -97,7 +99,8 @@ def describe(path: str, *, config: str | None = None, isolated: bool = False
         codes=settings.policy(),
         ignored_here=settings.ignored_here(path),
     )
-    positions = None
+    # the configuration's key positions, its text and its name as shown
+    located: tuple[KeySpans, SourceFile, str] | None = None
     prefix: tuple[str, ...] = ()
     errors: list[Diagnostic] = []
     if config_path is not None:
@@ -106,18 +109,20 @@ def describe(path: str, *, config: str | None = None, isolated: bool = False
         loaded = resolver.file(config_path)
         report.problems = list(loaded.diagnostics)
         report.source = loaded.source
-        positions = locate(loaded.source.text)
+        located = (locate(loaded.source.text), loaded.source, shown_path(config_path))
         if os.path.basename(config_path) == "pyproject.toml":
             prefix = ("tool", "scriptc")
         errors = [d for d in loaded.diagnostics if d.severity is Severity.ERROR]
     for key_path, value in _values(settings):
         origin, rejected = None, False
-        span = positions.key(prefix + key_path) if positions is not None else None
-        if span is not None:
-            position = report.source.position(span.start)
-            origin = Origin(report.configuration, position.line, position.column)
-            whole = positions.find(prefix + key_path)
-            rejected = any(whole.start <= d.span.start < max(whole.end, whole.start + 1)
-                           for d in errors)
+        if located is not None:
+            positions, source, shown = located
+            span = positions.key(prefix + key_path)
+            if span is not None:
+                position = source.position(span.start)
+                origin = Origin(shown, position.line, position.column)
+                whole = positions.find(prefix + key_path)
+                rejected = any(whole.start <= d.span.start < max(whole.end, whole.start + 1)
+                               for d in errors)
         report.settings.append(Setting(".".join(key_path), value, origin, rejected))
     return report

@@ -129,7 +129,7 @@ def import_implementation(spec: str, root: str) -> Any:
         sys.path.insert(0, root)
     try:
         obj = importlib.import_module(module_name)
-    except Exception as exc:  # noqa: BLE001 - the user's module may raise anything
+    except Exception as exc:  # the user's module may raise anything
         raise ImplementationError(f"cannot import `{module_name}` (for `{spec}`): "
                                   f"{type(exc).__name__}: {exc}") from exc
     for part in attribute.split("."):
@@ -255,7 +255,7 @@ class Settings:
         """code -> (reported?, overridden severity) for every code lint may report."""
         from scriptc.diagnostics.codes import lint_codes
 
-        table = {}
+        table: dict[str, tuple[bool, Severity | None]] = {}
         overrides = [(selector, SEVERITIES[value]) for selector, value in self.severity
                      if value in SEVERITIES]
         for c in lint_codes():
@@ -289,7 +289,7 @@ class Settings:
         for pattern, selectors in self.per_file_ignores:
             try:
                 spec = pathspec.GitIgnoreSpec.from_lines([pattern])
-            except Exception:  # noqa: BLE001 - reported by validation (C002)
+            except Exception:  # reported by validation (C002)
                 continue
             out.append((spec, selectors))
         return out
@@ -326,7 +326,7 @@ class Settings:
             return list(diagnostics)
         table = self._table
         here = self.ignored_here(path)
-        out = []
+        out: list[Diagnostic] = []
         for d in diagnostics:
             reported, severity = table.get(d.code, (True, None))
             if d.severity is Severity.ERROR:
@@ -343,6 +343,7 @@ class Settings:
             if severity is not None and severity is not d.severity:
                 import dataclasses
 
-                d = dataclasses.replace(d, severity=severity)
-            out.append(d)
+                out.append(dataclasses.replace(d, severity=severity))
+            else:
+                out.append(d)
         return out
