@@ -31,9 +31,13 @@ the audio is paused; unfreezing goes on where it stopped.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import Protocol, TypeGuard
+
 from scriptc.runtime.clock import PRIO_OPERATOR_TIMER, PRIO_TRACK, EventQueue
+from scriptc.runtime.commands import SILENCE, TRACKS, Audio, BlockCommands, Command, Led, Move
+from scriptc.runtime.robots import Drive
 from scriptc.runtime.trace import Trace
-from scriptc.runtime.commands import SILENCE, TRACKS, Audio, BlockCommands, Led, Move
 from scriptc.runtime.world import World
 
 ZERO = (0.0, 0.0, 0.0)
@@ -41,12 +45,12 @@ _PROGRESS_FIELD = ("submove", "subled", "subaout")
 
 
 class Track:
-    __slots__ = ("index", "name", "commands", "i", "phase", "end", "remaining", "started")
+    __slots__ = ("commands", "end", "i", "index", "name", "phase", "remaining", "started")
 
     def __init__(self, index: int) -> None:
         self.index = index
         self.name = TRACKS[index]
-        self.commands: tuple = ()
+        self.commands: tuple[Command, ...] = ()
         self.i = 0
         self.phase = "done"  # "wait", "run" or "done"
         self.end = 0  # when the current phase ends
@@ -54,14 +58,27 @@ class Track:
         self.started = 0  # when the running command started
 
 
+class Planner(Protocol):
+    """A robot that plans a block's moves ahead (the safety governor, runtime/governor.py)."""
+
+    def plan_block(self, t_ms: int, moves: tuple[Move, ...], length: int) -> None: ...
+
+    def drop_plan(self, t_ms: int) -> None: ...
+
+
+def _plans(robot: Drive) -> TypeGuard[Planner]:
+    """Whether the robot plans blocks ahead (a `Planner`)."""
+    return hasattr(robot, "plan_block")
+
+
 class Actuators:
-    def __init__(self, queue: EventQueue, robot, trace: Trace, world: World) -> None:
+    def __init__(self, queue: EventQueue, robot: Drive, trace: Trace, world: World) -> None:
         self.queue = queue
         self.robot = robot
         self.trace = trace
         self.world = world
         self.tracks = [Track(k) for k in range(3)]
-        self.on_consumed = None  # callback(now) when a block is consumed
+        self.on_consumed: Callable[[int], None] | None = None  # when a block is consumed
         self.block_active = False
         self.consumed = True
         self._tick = 0  # generation of scheduled track events (stale ones are ignored)
@@ -79,8 +96,7 @@ class Actuators:
         self.audio_paused = False
         # A robot that plans a block's moves ahead (the safety governor): told of each block
         # and of whatever else changes the wheels.
-        self._plan = getattr(robot, "plan_block", None)
-        self._plan_dropped = getattr(robot, "drop_plan", None)
+        self._planner = robot if _plans(robot) else None
 
     # -- blocks -----------------------------------------------------------------------------
 
@@ -102,13 +118,13 @@ class Actuators:
                 track.remaining = track.end - now
             else:
                 track.phase = "done"
-        if self._plan is not None:
+        if self._planner is not None:
             # The governor sees the block's move track ahead (its ramps are centred on the
             # changes): only while the script has the wheels.
             if self.driving or self.frozen or self.hold:
-                self._plan_dropped(now)
+                self._planner.drop_plan(now)
             else:
-                self._plan(now, instruction.moves, instruction.length)
+                self._planner.plan_block(now, instruction.moves, instruction.length)
         if not self.frozen:
             for track in self.tracks:
                 self._progress(track, now)
@@ -118,8 +134,8 @@ class Actuators:
         """Stop whatever runs (a script unloaded, a block replaced): running commands stop
         (`cmd_stop` with `cancelled`), the block is dropped without being consumed."""
         self._tick += 1
-        if self._plan_dropped is not None:
-            self._plan_dropped(now)
+        if self._planner is not None:
+            self._planner.drop_plan(now)
         for track in self.tracks:
             if track.phase == "run":
                 self._stop(track, now, cancelled=True)
@@ -127,7 +143,7 @@ class Actuators:
         self.block_active = False
         self.consumed = True
 
-    def _on_track(self, now: int, arg) -> bool:
+    def _on_track(self, now: int, arg: tuple[int, int]) -> bool:
         tick, k = arg
         if tick != self._tick:
             return False  # scheduled before a cancel, a freeze or a new block
@@ -164,7 +180,7 @@ class Actuators:
             if self.on_consumed is not None:
                 self.on_consumed(now)
 
-    def _start(self, track: Track, command, now: int) -> None:
+    def _start(self, track: Track, command: Command, now: int) -> None:
         self.trace.emit(now, "cmd_start", track=track.name, index=track.i,
                         command=command.as_dict())
         if isinstance(command, Move):
@@ -214,8 +230,8 @@ class Actuators:
         return self.script_v if self.script_moving else ZERO
 
     def _apply_velocity(self, now: int, cause: str) -> None:
-        if cause != "script" and self._plan_dropped is not None:
-            self._plan_dropped(now)  # the operator, a freeze or a hold: not the block's plan
+        if cause != "script" and self._planner is not None:
+            self._planner.drop_plan(now)  # the operator, a freeze or a hold: not the block's plan
         v = self.effective_velocity()
         if v != self.applied:
             self.robot.set_velocity(now, *v)

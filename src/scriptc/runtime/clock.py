@@ -1,8 +1,9 @@
 """Simulated time: one integer clock in milliseconds and a queue of future events.
 
-Nothing in the runtime reads the wall clock (docs/runtime.md, "Time and the loop"). The session jumps from one
-event to the next (a heap: each push and pop is O(log n), no per-millisecond ticking), so a
-ten-minute activity costs what its events cost, not what its minutes cost.
+Nothing in the runtime reads the wall clock (docs/runtime.md, "Time and the loop"). The
+session jumps from one event to the next (a heap: each push and pop is O(log n), no
+per-millisecond ticking), so a ten-minute activity costs what its events cost, not what its
+minutes cost.
 
 Events at the same millisecond are popped in a fixed order: by `prio` (the session's start,
 track progress of the actuators, then the operator's timers, then operator events, then sensor

@@ -15,9 +15,15 @@ session is about to start, and never on the lint path.
 
 from __future__ import annotations
 
+from typing import Any
+
 from scriptc.project.config.settings import ImplementationError, Settings, import_implementation
 from scriptc.runtime.functions import STANDARD_IMPLEMENTATIONS, Implementations
 from scriptc.runtime.rules import STANDARD_RULES, RuleLibrary
+
+# What a `module:attribute` implementation names: whatever the repository's code defines there,
+# checked where it is used (callable, then called as a function or a rule factory).
+Imported = Any
 
 
 class ConfiguredError(Exception):
@@ -57,7 +63,7 @@ def _where(settings: Settings) -> str:
     return settings.path or "the configuration"
 
 
-def _load(settings: Settings, what: str, name: str, spec: str, root: str):
+def _load(settings: Settings, what: str, name: str, spec: str, root: str) -> Imported:
     try:
         return import_implementation(spec, root)
     except ImplementationError as exc:

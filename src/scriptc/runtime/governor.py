@@ -38,31 +38,40 @@ from __future__ import annotations
 
 import math
 from collections import deque
+from collections.abc import Callable, Iterable
+from typing import TypeGuard
 
 from scriptc.robot.motion import ZERO, Shaper, limit_speed, rates_of, track_steps
 from scriptc.robot.profile import DEFAULT_PROFILE, Profile
 from scriptc.runtime.clock import PRIO_UPDATE
-from scriptc.runtime.robots import Pose
+from scriptc.runtime.commands import Move
+from scriptc.runtime.robots import Pose, Ramp, Rgb, Robot
+from scriptc.runtime.trace import Event, Trace
 
 # The governor's wake-up (a held LED onset's window frees) runs after every other event of its
 # millisecond, so it sees the LEDs the tracks set at that millisecond.
 PRIO_WAKE = PRIO_UPDATE + 1
 WINDOW_MS = 1000  # the flash limit's window, as K002's (check/safety.py)
 
-Rgb = tuple[float, float, float]
+Vector = tuple[float, float, float]
+
+# Where the nearest person is at a millisecond, seen from the robot's pose: (distance m,
+# bearing rad in the body frame), None when nobody is there (runtime/sensing.py).
+Nearest = Callable[[int, Pose], tuple[float, float] | None]
 
 
-def _velocity(v) -> dict:
+def _velocity(v: Vector) -> dict[str, float]:
     return {"v_x": v[0], "v_y": v[1], "v_theta": v[2]}
 
 
-def _lit(rgb: Rgb | None) -> bool:
+def _lit(rgb: Rgb | None) -> TypeGuard[Rgb]:
     """Black with `turnas` 1 is dark, as K002 counts it."""
     return rgb is not None and any(c > 0 for c in rgb)
 
 
 class Governor:
-    def __init__(self, robot, profile: Profile = DEFAULT_PROFILE, trace=None) -> None:
+    def __init__(self, robot: Robot, profile: Profile = DEFAULT_PROFILE,
+                 trace: Trace | None = None) -> None:
         self.robot = robot
         self.profile = profile
         self.trace = trace
@@ -77,8 +86,7 @@ class Governor:
         self.reasons: dict[str, int] = {}  # clamps by reason, in the order first met
         self._pending: int | None = None  # the instant whose command is still to be applied
         self._last_command = ZERO  # the command applied last
-        # callback(t_ms, pose) -> (distance m, bearing rad in the body frame) | None
-        self.nearest = None
+        self.nearest: Nearest | None = None
         # The LEDs: what the script asks, what is shown, the onsets shown in the last window,
         # and while an onset is held, when the window allows one. `wake(t)` (set by the
         # session) asks to be called back with `wake_led` at t.
@@ -87,15 +95,16 @@ class Governor:
         self.held_until: int | None = None
         self._onsets: deque[int] = deque()
         self._max_onsets = math.floor(p.max_led_flash_rate)  # K002: count > rate is too many
-        self._show = getattr(robot, "set_led", None)
-        self.wake = None
+        self._show: Callable[[Rgb | None], None] | None = getattr(robot, "set_led", None)
+        self.wake: Callable[[int], None] | None = None
         # The speaker: audio commands carry no volume, so the robot plays every track at one
         # level, and the governor sets it to the profile's maximum.
         set_volume = getattr(robot, "set_volume", None)
         if set_volume is not None:
             set_volume(p.max_volume)
 
-    def __getattr__(self, name: str):
+    def __getattr__(self, name: str) -> object:
+        """The backend's own attributes (`set_audio`, `time_ms`, ...), as the backend has them."""
         return getattr(self.robot, name)
 
     # -- velocity -----------------------------------------------------------------------------
@@ -106,7 +115,7 @@ class Governor:
         return self.shaper.target
 
     @property
-    def ramp(self):
+    def ramp(self) -> Ramp | None:
         """The ramp the robot follows (`motion.Ramp`), None when it is on its target."""
         return self.shaper.ramp
 
@@ -179,8 +188,8 @@ class Governor:
             if ramped.get(1, 0) > 1:
                 reasons.append("angular-acceleration")
         if reasons and (ramped or new):
-            fields = {"reasons": reasons, "commanded": _velocity(command),
-                      "applied": _velocity(applied)}
+            fields: Event = {"reasons": reasons, "commanded": _velocity(command),
+                             "applied": _velocity(applied)}
             ramp_ms = max(ramped.values(), default=0)
             if ramp_ms > 1:
                 fields["target"] = _velocity(shaper.target)
@@ -189,7 +198,7 @@ class Governor:
 
     # -- the plan of a block: ramps centred on the changes known ahead -------------------------
 
-    def plan_block(self, t_ms: int, moves, length: int) -> None:
+    def plan_block(self, t_ms: int, moves: Iterable[Move], length: int) -> None:
         """The actuators issue a block at `t_ms` that lasts `length` ms: its move track
         (`Move`s) is known ahead, so the motions whose ramps fit in the block are ramped centred
         on their changes (docs/robot.md, "Acceleration"), the others late, command by command."""
@@ -215,8 +224,8 @@ class Governor:
         while (planned := shaper.due(t_ms)) is not None:
             self.robot.advance(planned.at)
             if planned.group == 0 and self.nearest is not None:
-                v = (*planned.values, shaper.target[2])
-                if "human-distance" in self.limit(*v, planned.at)[1]:
+                v_x, v_y = planned.values  # group 0: the plane
+                if "human-distance" in self.limit(v_x, v_y, shaper.target[2], planned.at)[1]:
                     shaper.drop()
                     return
             shaper.start(planned)
@@ -229,7 +238,7 @@ class Governor:
             return False
         return "human-distance" in self.limit(*self.shaper.target, t_ms)[1]
 
-    def _log(self, t_ms: int, fields: dict) -> None:
+    def _log(self, t_ms: int, fields: Event) -> None:
         self.clamps += 1
         for reason in fields["reasons"]:
             self.reasons[reason] = self.reasons.get(reason, 0) + 1

@@ -11,9 +11,13 @@ real script is queued (loop step 6), stopping its block wherever it is. A file c
 from __future__ import annotations
 
 from functools import cache
+from typing import TYPE_CHECKING
 
 from scriptc.ir import nodes as ir
 from scriptc.source import Span
+
+if TYPE_CHECKING:
+    from scriptc.runtime.interp import IRProgram
 
 IDLE_NAME = "idle_activity"
 
@@ -37,8 +41,9 @@ def _name(text: str) -> ir.Name:
     return ir.Name(text, _NOWHERE)
 
 
-def _led(fields: tuple[str, ...]) -> ir.LedCommand:
-    return ir.LedCommand(*(ir.Number(text, _NOWHERE) for text in fields), _NOWHERE)
+def _led(fields: tuple[str, str, str, str, str, str]) -> ir.LedCommand:
+    r, g, b, turnas, wait_t, duration = (ir.Number(text, _NOWHERE) for text in fields)
+    return ir.LedCommand(r, g, b, turnas, wait_t, duration, _NOWHERE)
 
 
 @cache
@@ -54,7 +59,7 @@ def idle_script() -> ir.Script:
 
 
 @cache
-def idle_program():
+def idle_program() -> IRProgram:
     """The built-in idle program (an `IRProgram`; its path is empty)."""
     from scriptc.runtime.interp import IRProgram
 

@@ -37,6 +37,7 @@ instants or between two chunks of physics; the trace holds every instant before)
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, TypedDict
 
 from scriptc import interrupt
 from scriptc.runtime.actuators import ZERO, Actuators
@@ -45,17 +46,30 @@ from scriptc.runtime.clock import PRIO_OPERATOR, PRIO_START, PRIO_UPDATE, EventQ
 from scriptc.runtime.mutex import Mutex
 from scriptc.runtime.operator import Operator
 from scriptc.runtime.overrides import Overrides
-from scriptc.runtime.robots import Pose, Robot, RobotFailure
+from scriptc.runtime.robots import Drive, Pose, RobotFailure, is_display, is_stepped
 from scriptc.runtime.scenario import Scenario, TimedUpdate
 from scriptc.runtime.scripts import LoadRecord, Scripts
 from scriptc.runtime.status import NO_PROGRESS, ROBOT_UNSTABLE, RunStatus
-from scriptc.runtime.trace import Trace
+from scriptc.runtime.trace import Event, Trace
 from scriptc.runtime.updates import Updates
 from scriptc.runtime.world import World, parse_update
+
+if TYPE_CHECKING:  # made by the session only when a run has them (imported there lazily)
+    from scriptc.runtime.governor import Governor
+    from scriptc.runtime.sensing import Sensing
 
 # Loops at one instant before the session gives up: a cycle of jumps and blocks that take no
 # time, or rules that keep raising work, never let time pass.
 MAX_LOOPS_PER_INSTANT = 10_000
+
+
+class GovernorSummary(TypedDict):
+    """How many times the governor intervened (`governor` trace events), and how many of them
+    for each reason, in the order first met (an event may have two: a speed clamped and
+    ramped)."""
+
+    clamps: int
+    reasons: dict[str, int]
 
 
 @dataclass
@@ -66,7 +80,7 @@ class RunResult:
     time_ms: int
     pose: Pose
     loads: list[LoadRecord]
-    errors: list[dict]
+    errors: list[Event]
     events: int
     trace: Trace
     # With the governor: the millisecond the robot came to rest after the activity's end
@@ -74,10 +88,10 @@ class RunResult:
     at_rest_ms: int | None = None
     # With the governor: how many times it intervened (`governor` trace events), and how many
     # of them for each reason (an event may have two: a speed clamped and ramped).
-    governor: dict | None = None
+    governor: GovernorSummary | None = None
 
-    def as_dict(self) -> dict:
-        data = {
+    def as_dict(self) -> dict[str, object]:
+        data: dict[str, object] = {
             "outcome": self.outcome,
             "time_ms": self.time_ms,
             "pose": self.pose.as_dict(),
@@ -96,8 +110,9 @@ class Loop:
     """The instants and the order of each (see the module's docstring). It drives the jobs a
     session wires together; it holds no state of its own but the robot's outputs."""
 
-    def __init__(self, *, status: RunStatus, trace: Trace, queue: EventQueue, robot: Robot,
-                 governor, sensing, scenario: Scenario | None, world: World, bindings: Bindings,
+    def __init__(self, *, status: RunStatus, trace: Trace, queue: EventQueue, robot: Drive,
+                 governor: Governor | None, sensing: Sensing | None, scenario: Scenario | None,
+                 world: World, bindings: Bindings,
                  actuators: Actuators, scripts: Scripts, overrides: Overrides, mutex: Mutex,
                  updates: Updates, operator: Operator, script_names: list[str],
                  max_loops: int = MAX_LOOPS_PER_INSTANT) -> None:
@@ -120,18 +135,19 @@ class Loop:
         self.max_loops = max_loops
         # A backend that shows the LEDs and the speaker (MuJoCo's model); the governor sees the
         # LEDs and applies its pending command at the end of every instant.
-        self._shows = hasattr(robot, "set_led")
-        self._show_outputs = self._shows or governor is not None
+        self._display = robot if is_display(robot) else None
+        self._show_outputs = self._display is not None or governor is not None
         # A backend that steps its physics (`stepped`: MuJoCo) is brought up to each instant
         # before the instant's events, where stepping can be interrupted and costs the same
         # steps as inside a handler; the kinematic robot is advanced where it is needed only
         # (its closed form would round differently if cut in more pieces).
-        self._catch_up = bool(getattr(robot, "stepped", False))
+        self._stepped = robot if is_stepped(robot) else None
+        self._catch_up = self._stepped is not None
 
     def run(self, until: int | None = None) -> RunResult:
         """Run to the end (see the module's docstring); `until` caps simulated time (ms)."""
         status, trace, queue, governor = self.status, self.trace, self.queue, self.governor
-        governed = {}
+        governed: dict[str, object] = {}
         if governor is not None:  # the limits the governor keeps, as the trace's header
             governed["profile"] = governor.profile.limits()
         trace.emit(0, "session_start", scripts=self.script_names,
@@ -144,12 +160,12 @@ class Loop:
             for op in self.scenario.operator:
                 queue.push(op.at, PRIO_OPERATOR, self.operator.on_event, op)
         if self.sensing is not None:
-            queue.push(0, PRIO_UPDATE, self._on_sense, None)
+            queue.push(0, PRIO_UPDATE, self._on_sense, self.sensing)
         # The session's start makes 0 ms an instant like any other: its events are handled
         # first, then the loop loads the first script (step 6) and reads it.
         queue.push(0, PRIO_START, self._on_start, None)
         failed = False
-        settled = {}
+        settled: dict[str, int] = {}
         try:
             try:
                 self._instants(until)
@@ -173,7 +189,7 @@ class Loop:
         return RunResult(status.outcome, status.now, pose, self.scripts.loads, trace.errors,
                          trace.count, trace, settled.get("at_rest_ms"),
                          None if governor is None else
-                         {"clamps": governor.clamps, "reasons": dict(governor.reasons)})
+                         GovernorSummary(clamps=governor.clamps, reasons=dict(governor.reasons)))
 
     def _instants(self, until: int | None) -> None:
         """The instants, each in the same order (see the module's docstring): the physics up to
@@ -245,7 +261,7 @@ class Loop:
 
     # -- the event queue's handlers (each says whether it makes an instant) ---------------------
 
-    def _on_start(self, now: int, _arg) -> bool:
+    def _on_start(self, now: int, _arg: None) -> bool:
         """The session's start: an instant at 0 ms (the loop's step 6 loads the first script)."""
         return True
 
@@ -255,25 +271,25 @@ class Loop:
         self.updates.post(now, tu.update)
         return True
 
-    def _on_sense(self, now: int, _arg) -> bool:
+    def _on_sense(self, now: int, sensing: Sensing) -> bool:
         """Simulated sensing (runtime/sensing.py): where the placed entities are relative to
         the robot the physics moved, as `poses` updates; then the next reading."""
         self.status.now = now
         robot = self.robot
         robot.advance(now)
         pose = robot.pose()
-        for objectid, rho, theta in self.sensing.read(now, pose):
+        for objectid, rho, theta in sensing.read(now, pose):
             self.updates.post(now, parse_update(objectid, "poses", "R",
                                                 {"positionrho": rho, "positiontheta": theta}))
         if self.governor is not None:
             self.governor.recheck(now)
-        self.queue.push(now + self.sensing.period, PRIO_UPDATE, self._on_sense, None)
+        self.queue.push(now + sensing.period, PRIO_UPDATE, self._on_sense, sensing)
         return True
 
-    def on_wake(self, now: int, _arg) -> bool:
+    def on_wake(self, now: int, governor: Governor) -> bool:
         """The governor's flash window frees: it shows what the script asks now. Not a loop of
         the session (nothing of the script changed), so the handler says nothing happened."""
-        self.governor.wake_led(now, self.actuators.led)
+        governor.wake_led(now, self.actuators.led)
         return False
 
     # -- the end of an instant, and of an interrupted run ---------------------------------------
@@ -281,12 +297,13 @@ class Loop:
     def _outputs(self) -> None:
         """The end of an instant: the LEDs and the speaker into a robot model that shows them
         (MuJoCo's materials), through the governor when there is one."""
+        display = self._display
         if self.governor is not None:
             self.governor.end_instant(self.status.now, self.actuators.led)
-        else:
-            self.robot.set_led(self.actuators.led)
-        if self._shows:
-            self.robot.set_audio(self.actuators.audio)
+        elif display is not None:
+            display.set_led(self.actuators.led)
+        if display is not None:
+            display.set_audio(self.actuators.audio)
 
     def _interrupted(self) -> None:
         """Ctrl-C (`interrupt.check` raised): the session stops where it is. No instant was
@@ -294,11 +311,11 @@ class Loop:
         trace holds every instant up to `now`; the time reached is where the physics got."""
         status = self.status
         status.finish("interrupted")
-        if self._catch_up:
+        if self._stepped is not None:
             # Stepped up to each instant, the physics is at the last one or on its way to the
             # next one (or to the time limit, or braking after the end): nothing happened
             # between, so that is the time reached.
-            status.now = self.robot.time_ms
+            status.now = self._stepped.time_ms
         else:
             # The kinematic robot may lag behind the last instant (it is advanced where it is
             # needed): bringing it there costs nothing.

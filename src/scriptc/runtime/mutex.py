@@ -19,8 +19,6 @@ reported (`rule`) and the chain goes on. Motion is held for the pass iff a body 
 
 from __future__ import annotations
 
-from typing import Any
-
 from scriptc.runtime.actuators import Actuators
 from scriptc.runtime.bindings import Bindings
 from scriptc.runtime.commands import RuleMessage
@@ -37,7 +35,7 @@ from scriptc.runtime.rules import (
 from scriptc.runtime.status import MUTEX_MISUSE, RULE, UNKNOWN_RULECODE, RunStatus
 from scriptc.runtime.trace import Trace
 from scriptc.runtime.updates import Updates
-from scriptc.runtime.world import World
+from scriptc.runtime.world import JSONValue, Record, World
 
 
 class RuleEffects:
@@ -62,11 +60,11 @@ class RuleEffects:
     def record_goal(self, kind: str, goalid: str, by: str) -> None:
         self.goals.record(kind, goalid, by=by)
 
-    def post_update(self, objectid: str, attributename: str, policy: str, jsonmsg: Any,
+    def post_update(self, objectid: str, attributename: str, policy: str, jsonmsg: JSONValue,
                     by: str) -> None:
         self.updates.post_message(objectid, attributename, policy, jsonmsg, source=by)
 
-    def note(self, now: int, rule: Rule, message: str, data: dict[str, Any]) -> None:
+    def note(self, now: int, rule: Rule, message: str, data: Record) -> None:
         self.trace.emit(now, "rule_note", id=rule.id, rulecode=rule.rulecode, message=message,
                         **data)
 
@@ -190,7 +188,7 @@ class Mutex:
                     rule.on_true(rctx)
                 else:
                     rule.on_false(rctx)
-            except Exception as exc:  # noqa: BLE001 - a rule's bug must not stop the robot
+            except Exception as exc:  # a rule's bug must not stop the robot
                 self.status.report(now, RULE, f"rule `{rule.id}` (rulecode {rule.rulecode}) "
                                               f"raised {type(exc).__name__}: {exc}")
             bindings.end_owner(rule.id)

@@ -26,7 +26,7 @@ from scriptc.runtime.loading import LoadError
 from scriptc.runtime.scripts import Scripts
 from scriptc.runtime.status import OVERRIDE, SCRIPT_VECT, RunStatus
 from scriptc.runtime.trace import Trace
-from scriptc.runtime.world import World
+from scriptc.runtime.world import Record, World
 
 
 class Overrides:
@@ -97,7 +97,7 @@ class Overrides:
         except SeekError as exc:
             status.report(now, OVERRIDE, f"{exc}: it starts at its first block")
 
-    def script_vect(self, now: int, value: dict) -> None:
+    def script_vect(self, now: int, value: Record) -> None:
         """Table 4.2's `Script/script_vect`, applied at step 4 (see the module's docstring)."""
         scripts = self.scripts
         programs = []

@@ -40,15 +40,18 @@ and a function); a repository declares them in its configuration (`[[rules]]`, r
 from __future__ import annotations
 
 import re
-from collections.abc import Callable
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
-from typing import Any, Protocol
+from typing import TYPE_CHECKING, Protocol
 
 from scriptc.ir import nodes as ir
 from scriptc.numbers import whole_number
 from scriptc.runtime.bindings import Bindings
 from scriptc.runtime.commands import BlockCommands, RuleMessage
-from scriptc.runtime.world import OverrideRequest, World
+from scriptc.runtime.world import JSONValue, OverrideRequest, Record, World
+
+if TYPE_CHECKING:
+    from scriptc.runtime.evaluate import Evaluation
 
 
 class RuleError(ValueError):
@@ -123,11 +126,11 @@ class RuleHost(Protocol):
     def record_goal(self, kind: str, goalid: str, by: str) -> None:
         """A goal record (`reached`, `interrupted`, `failed`); ValueError for another kind."""
 
-    def post_update(self, objectid: str, attributename: str, policy: str, jsonmsg: Any,
+    def post_update(self, objectid: str, attributename: str, policy: str, jsonmsg: JSONValue,
                     by: str) -> None:
         """A MapUpdate, applied at the next step 4 (one the map cannot take is reported)."""
 
-    def note(self, now: int, rule: Rule, message: str, data: dict[str, Any]) -> None:
+    def note(self, now: int, rule: Rule, message: str, data: Record) -> None:
         """A `rule_note` line in the trace."""
 
 
@@ -135,9 +138,9 @@ class RuleContext:
     """What a rule body may do to the map during its turn (see the module's docstring), all
     through its `RuleHost`."""
 
-    __slots__ = ("host", "rule", "now", "evaluation")
+    __slots__ = ("evaluation", "host", "now", "rule")
 
-    def __init__(self, host: RuleHost, rule: Rule, now: int, evaluation) -> None:
+    def __init__(self, host: RuleHost, rule: Rule, now: int, evaluation: Evaluation) -> None:
         self.host = host
         self.rule = rule
         self.now = now
@@ -187,7 +190,8 @@ class RuleContext:
         """Record a goal as `reached`, `interrupted` or `failed` in the map."""
         self.host.record_goal(kind, goalid, by=self.rule.id)
 
-    def post_update(self, objectid: str, attributename: str, policy: str, jsonmsg) -> None:
+    def post_update(self, objectid: str, attributename: str, policy: str,
+                    jsonmsg: JSONValue) -> None:
         """Send a MapUpdate as a sensor would (applied at the next step 4)."""
         self.host.post_update(objectid, attributename, policy, jsonmsg, by=self.rule.id)
 
@@ -195,7 +199,7 @@ class RuleContext:
         """Change the rule's own condition (thesis 4.3: it "can be changed on run-time")."""
         self.rule.condition = parse_condition_text(text)
 
-    def note(self, message: str, **data) -> None:
+    def note(self, message: str, **data: JSONValue) -> None:
         """A line in the trace (`rule_note`)."""
         self.host.note(self.now, self.rule, message, data)
 
@@ -267,11 +271,12 @@ class Override(Rule):
             if m is None:
                 raise RuleError("override: `at` is a path `goalG/actA/blkB`, "
                                 f"found `{params['at']}`")
-            indexes = [whole_number(x) for x in m.groups()]  # the number policy's digits
-            if None in indexes:
+            # Read by the number policy: None for digits beyond it.
+            goal, action, block = (whole_number(x) for x in m.groups())
+            if goal is None or action is None or block is None:
                 raise RuleError(f"override: `at` names a goal, action or block beyond any "
                                 f"script, found `{params['at'][:40]}...`")
-            self.goal, self.action, self.block = indexes
+            self.goal, self.action, self.block = goal, action, block
         self.fired = False
 
     def on_true(self, ctx: RuleContext) -> None:
@@ -285,7 +290,9 @@ class Override(Rule):
 class SimpleRule(Rule):
     """A rule made of a condition text and Python callables (`RuleLibrary.register_simple`)."""
 
-    def __init__(self, message, params, condition: str, on_true, on_false) -> None:
+    def __init__(self, message: RuleMessage, params: dict[str, str] | None, condition: str,
+                 on_true: Callable[[RuleContext], None] | None,
+                 on_false: Callable[[RuleContext], None] | None) -> None:
         self.condition_text = condition
         super().__init__(message, params)
         self._on_true = on_true
@@ -306,7 +313,7 @@ class UnknownRule(Rule):
     name = "unknown"
 
 
-RuleFactory = Callable[[RuleMessage, dict], Rule]
+RuleFactory = Callable[[RuleMessage, dict[str, str]], Rule]
 
 
 @dataclass(frozen=True, slots=True)
@@ -323,7 +330,8 @@ class RuleLibrary:
     (a `[[rules]]` entry of the configuration without a rulecode): a message whose rulecode
     has no body is matched by its id among those (docs/configuration.md)."""
 
-    def __init__(self, entries=(), named=()) -> None:
+    def __init__(self, entries: Iterable[RuleEntry] = (), named: Iterable[RuleEntry] = ()
+                 ) -> None:
         self._by_code: dict[int, RuleEntry] = {e.rulecode: e for e in entries}
         self._by_name: dict[str, RuleEntry] = {e.name: e for e in named}
 
@@ -358,7 +366,7 @@ class RuleLibrary:
             entry = self._by_name.get(rule_id)
         return entry
 
-    def __iter__(self):
+    def __iter__(self) -> Iterator[RuleEntry]:
         return iter(sorted(self._by_code.values(), key=lambda e: e.rulecode))
 
     def extended(self) -> RuleLibrary:
@@ -375,11 +383,11 @@ class RuleLibrary:
 
 
 STANDARD_RULES = RuleLibrary([
-    RuleEntry(0, "kick_starter", lambda m, p: KickStarter(m, p),
+    RuleEntry(0, "kick_starter", KickStarter,
               "keeps RobotStatus/elapsedtime up to date on every pass"),
-    RuleEntry(1, "safety_stop", lambda m, p: SafetyStop(m, p),
+    RuleEntry(1, "safety_stop", SafetyStop,
               "holds the wheels still while a Human (`class`) is closer than `distance` m"),
-    RuleEntry(2, "override", lambda m, p: Override(m, p),
+    RuleEntry(2, "override", Override,
               "when `when` holds, switches once to `script` at `at` (or `goal`)"),
 ])
 

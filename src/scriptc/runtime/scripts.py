@@ -20,6 +20,7 @@ its load to its unload, with its block reading.
 from __future__ import annotations
 
 import os
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 
 from scriptc.runtime.actuators import Actuators
@@ -46,9 +47,9 @@ class LoadRecord:
     ended_ms: int | None = None
     ended_by: str | None = None
     goals: dict[str, str] = field(default_factory=dict)  # goal id -> last record
-    reached: set = field(default_factory=set)
+    reached: set[str] = field(default_factory=set)
 
-    def as_dict(self) -> dict:
+    def as_dict(self) -> dict[str, object]:
         return {"script": self.script, "path": self.path, "reason": self.reason,
                 "loaded_ms": self.loaded_ms, "ended_ms": self.ended_ms,
                 "ended_by": self.ended_by, "goals": dict(self.goals)}
@@ -61,7 +62,8 @@ class Catalogue:
 
     __slots__ = ("folder", "loader", "programs")
 
-    def __init__(self, programs, folder: str | None = None, loader: Loader | None = None) -> None:
+    def __init__(self, programs: Iterable[Loadable], folder: str | None = None,
+                 loader: Loader | None = None) -> None:
         self.programs: dict[str, Loadable] = {}
         for program in programs:
             self.programs.setdefault(program.name, program)
@@ -118,7 +120,8 @@ class Scripts:
         "world",
     )
 
-    def __init__(self, programs, idle: Loadable, catalogue: Catalogue, *, stop_when_done: bool,
+    def __init__(self, programs: Sequence[Loadable], idle: Loadable, catalogue: Catalogue, *,
+                 stop_when_done: bool,
                  world: World, trace: Trace, status: RunStatus, goals: Goals, sink: ReaderSink,
                  mutex: Mutex, bindings: Bindings, actuators: Actuators, ctx: EvalContext,
                  max_loops: int) -> None:

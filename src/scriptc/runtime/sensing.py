@@ -16,9 +16,11 @@ one not yet processed). Periods are whole milliseconds (1000 / rate, rounded dow
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass
 
 from scriptc.runtime.robots import Pose
+from scriptc.runtime.world import Record
 
 
 @dataclass(frozen=True, slots=True)
@@ -32,7 +34,8 @@ class PlacedEntity:
     stop: int | None = None  # ms: when it stops moving
 
     @classmethod
-    def from_data(cls, item: dict) -> PlacedEntity:
+    def from_data(cls, item: Record) -> PlacedEntity:
+        """An entity of a scenario's `entities` (checked by the scenario's schema)."""
         return cls(item["objectid"], float(item["x"]), float(item["y"]),
                    float(item.get("v_x", 0.0)), float(item.get("v_y", 0.0)),
                    int(item.get("from", 0)), item.get("until"))
@@ -61,7 +64,8 @@ def relative(pose: Pose, x: float, y: float) -> tuple[float, float]:
 class Sensing:
     """The simulated sensor over a scenario's placed entities."""
 
-    def __init__(self, entities, rate_hz: float = 10.0, max_range: float | None = None) -> None:
+    def __init__(self, entities: Iterable[PlacedEntity], rate_hz: float = 10.0,
+                 max_range: float | None = None) -> None:
         self.entities = list(entities)
         self.period = max(1, int(1000 // rate_hz))
         self.max_range = max_range
@@ -82,7 +86,7 @@ class Sensing:
 
     def nearest_human(self, t_ms: int, pose: Pose) -> tuple[float, float] | None:
         """(distance, bearing) of the nearest Human present (for the governor)."""
-        best = None
+        best: tuple[float, float] | None = None
         for entity in self.entities:
             if entity.cls != "Human" or t_ms < entity.start:
                 continue

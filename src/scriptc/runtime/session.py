@@ -23,6 +23,8 @@ the same semantics; `Session` is the arrangement `scriptc run` uses.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from scriptc.runtime.actuators import Actuators
 from scriptc.runtime.bindings import Bindings
 from scriptc.runtime.clock import EventQueue
@@ -35,7 +37,7 @@ from scriptc.runtime.loop import MAX_LOOPS_PER_INSTANT, Loop, RunResult
 from scriptc.runtime.mutex import Mutex, RuleEffects
 from scriptc.runtime.operator import Operator
 from scriptc.runtime.overrides import Overrides
-from scriptc.runtime.robots import Robot, make_robot
+from scriptc.runtime.robots import Drive, Robot, make_robot
 from scriptc.runtime.rules import STANDARD_RULES, RuleLibrary
 from scriptc.runtime.scenario import Scenario
 from scriptc.runtime.scripts import Catalogue, LoadRecord, Scripts
@@ -44,6 +46,11 @@ from scriptc.runtime.status import FUNCTION, RunStatus
 from scriptc.runtime.trace import Trace
 from scriptc.runtime.updates import Updates
 from scriptc.runtime.world import World
+
+if TYPE_CHECKING:  # imported when a run has them (below)
+    from scriptc.robot.profile import Profile
+    from scriptc.runtime.governor import Governor
+    from scriptc.runtime.sensing import Sensing
 
 __all__ = ["MAX_LOOPS_PER_INSTANT", "LoadError", "LoadRecord", "RunResult", "Session"]
 
@@ -65,22 +72,23 @@ class Session:
                  catalogue: list[Loadable] | tuple[Loadable, ...] = (),
                  loader: Loader | None = None,
                  max_loops_per_instant: int = MAX_LOOPS_PER_INSTANT,
-                 profile=None) -> None:
+                 profile: Profile | None = None) -> None:
         self.programs = list(programs)
         self.scenario = scenario
         self.world = world = World()
         self.bindings = bindings = Bindings()
         self.queue = queue = EventQueue()
         self.trace = trace = trace if trace is not None else Trace()
-        self.robot = make_robot(robot) if isinstance(robot, str) else robot
+        backend = make_robot(robot) if isinstance(robot, str) else robot
+        self.robot: Drive = backend
         # The safety governor (runtime/governor.py) when a robot profile is given, and the
         # simulated sensing of the scenario's placed entities (runtime/sensing.py).
-        self.governor = None
+        self.governor: Governor | None = None
         if profile is not None:
             from scriptc.runtime.governor import Governor
 
-            self.robot = self.governor = Governor(self.robot, profile, trace)
-        self.sensing = None
+            self.robot = self.governor = Governor(backend, profile, trace)
+        self.sensing: Sensing | None = None
         if scenario is not None and scenario.entities:
             from scriptc.runtime.sensing import Sensing
 
@@ -119,12 +127,13 @@ class Session:
                          overrides=overrides, mutex=mutex, updates=updates,
                          operator=self.operator, script_names=[p.name for p in self.programs],
                          max_loops=max_loops_per_instant)
-        if self.governor is not None:
+        governor = self.governor
+        if governor is not None:
             from scriptc.runtime.governor import PRIO_WAKE
 
             # A held LED onset: the governor is woken when the flash window frees (an event
             # only runs that hold LEDs get; its handler is not a loop of the session).
-            self.governor.wake = lambda t: queue.push(t, PRIO_WAKE, self.loop.on_wake, None)
+            governor.wake = lambda t: queue.push(t, PRIO_WAKE, self.loop.on_wake, governor)
 
     def run(self, until: int | None = None) -> RunResult:
         """Run to the end (runtime/loop.py); `until` caps simulated time (ms)."""

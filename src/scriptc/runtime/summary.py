@@ -49,9 +49,9 @@ def _fixed(value: float) -> str:
 
 def summary_text(result: RunResult, trace_path: str | None = None, capped: bool = False) -> str:
     interrupted = result.outcome == "interrupted"
-    lines = [f"{result.outcome} at {result.time_ms} ms ({result.time_ms / 1000:.3f} s "
-             f"simulated): {_OUTCOMES.get(result.outcome, result.outcome)}"
-             f"{_running(result) if interrupted else ''}"]
+    lines = [(f"{result.outcome} at {result.time_ms} ms ({result.time_ms / 1000:.3f} s "
+              f"simulated): {_OUTCOMES.get(result.outcome, result.outcome)}"
+              f"{_running(result) if interrupted else ''}")]
     if capped:
         lines.append(f"  note: {_CAPPED}")
     for load in result.loads:

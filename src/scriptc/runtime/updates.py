@@ -13,11 +13,10 @@ map's tables first; one the map cannot take is reported (code `update`) and drop
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any
 
 from scriptc.runtime.status import UPDATE, RunStatus
 from scriptc.runtime.trace import Trace
-from scriptc.runtime.world import MapUpdate, UpdateError, World, parse_update
+from scriptc.runtime.world import JSONValue, MapUpdate, Record, UpdateError, World, parse_update
 
 
 class Updates:
@@ -26,7 +25,7 @@ class Updates:
     __slots__ = ("on_script_vect", "status", "trace", "world")
 
     def __init__(self, world: World, trace: Trace, status: RunStatus,
-                 on_script_vect: Callable[[int, dict], None] | None = None) -> None:
+                 on_script_vect: Callable[[int, Record], None] | None = None) -> None:
         self.world = world
         self.trace = trace
         self.status = status
@@ -37,7 +36,7 @@ class Updates:
         for dropped in self.world.post(update):
             self.trace.emit(now, "update", **dropped.as_dict(), status="dropped")
 
-    def post_message(self, objectid: str, attributename: str, policy: str, jsonmsg: Any,
+    def post_message(self, objectid: str, attributename: str, policy: str, jsonmsg: JSONValue,
                      source: str = "") -> None:
         """An update from inside the run (a rule, named by `source`), as a sensor sends it;
         one the map cannot take is reported and dropped."""

@@ -48,7 +48,7 @@ class Drive(Protocol):
 
     def pose(self) -> Pose: ...
 
-    def ghost(self) -> Robot: ...
+    def ghost(self) -> Drive: ...
 
 
 class Robot(Drive, Protocol):
@@ -56,6 +56,8 @@ class Robot(Drive, Protocol):
 
     def set_velocity(self, t_ms: int, v_x: float, v_y: float, v_theta: float,
                      ramp: Ramp | None = None) -> None: ...
+
+    def ghost(self) -> Robot: ...
 
 
 class Display(Protocol):
