@@ -24,7 +24,7 @@ sits on the path of `scriptc lint`, whose cold start is budgeted.
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from typing import TYPE_CHECKING, Any, Protocol
+from typing import TYPE_CHECKING, Any, Protocol, cast
 
 from scriptc.diagnostics.model import Diagnostic, Severity
 from scriptc.paths import repository_path, repository_root
@@ -38,15 +38,33 @@ class FileResults(Protocol):
     """What a renderer needs of one file's results (`scriptc.analysis.analyze.Analysis` is
     one; so is a configuration file's `scriptc.project.config.ConfigFile`)."""
 
-    source: SourceFile
-    diagnostics: Sequence[Diagnostic]
+    @property
+    def source(self) -> SourceFile: ...
+
+    @property
+    def diagnostics(self) -> Sequence[Diagnostic]: ...
 
 
-def _pairs(results: Sequence[Any]) -> list[tuple[SourceFile, Sequence[Diagnostic]]]:
+# A JSON object the machine-readable formats write (JSON, SARIF): its values are any JSON.
+JSONObject = dict[str, Any]
+# What the renderers take: each file's results, or plain `(source, diagnostics)` pairs.
+Results = Sequence[FileResults | tuple[SourceFile, Sequence[Diagnostic]]]
+
+
+def _pairs(results: Results) -> list[tuple[SourceFile, Sequence[Diagnostic]]]:
     """Accept Analysis-like objects (anything with a `source` and `diagnostics`, a
     configuration file's `ConfigFile` too, itself a tuple) or plain `(source, diagnostics)`
     pairs."""
-    return [(r.source, r.diagnostics) if hasattr(r, "diagnostics") else r for r in results]
+    return [_pair(r) for r in results]
+
+
+def _pair(r: FileResults | tuple[SourceFile, Sequence[Diagnostic]]
+          ) -> tuple[SourceFile, Sequence[Diagnostic]]:
+    if not hasattr(r, "diagnostics"):
+        return r
+    # (a ConfigFile is a tuple too: what has `diagnostics` is read by name)
+    results = cast(FileResults, r)
+    return results.source, results.diagnostics
 
 
 def _code_entry(code: str) -> Code | None:
@@ -234,7 +252,7 @@ def plural(n: int, word: str, words: str | None = None) -> str:
     return f"{n} {word}" if n == 1 else f"{n} {words or word + 's'}"
 
 
-def summary(results: Sequence[Any]) -> str:
+def summary(results: Results) -> str:
     """`error: 2 errors, 1 warning emitted`, or "" when there is nothing to report."""
     counts = dict.fromkeys(Severity, 0)
     for _source, diagnostics in _pairs(results):
@@ -253,13 +271,13 @@ def summary(results: Sequence[Any]) -> str:
     return f"{worst.value}: {', '.join(parts)} emitted"
 
 
-def _summary_line(results: Sequence[Any]) -> _Line:
+def _summary_line(results: Results) -> _Line:
     text = summary(results)
     word, _, rest = text.partition(":")
     return [(word, _SEVERITY_STYLE[Severity(word)]), (":" + rest, _BOLD)]
 
 
-def render_text(results: Sequence[Any], *, color: bool = False) -> str:
+def render_text(results: Results, *, color: bool = False) -> str:
     """rustc-style text. With `color`, each styled piece in ANSI colours (`_colour`)."""
     lines = _text_lines(results)
     if not color:
@@ -267,7 +285,7 @@ def render_text(results: Sequence[Any], *, color: bool = False) -> str:
     return _colour(lines)
 
 
-def _text_lines(results: Sequence[Any]) -> list[_Line]:
+def _text_lines(results: Results) -> list[_Line]:
     """The lines of the text format, each a list of styled pieces."""
     lines: list[_Line] = []
     for source, diagnostics in _pairs(results):
@@ -307,9 +325,9 @@ def _region(source: SourceFile, span: Span) -> dict[str, int]:
     return {"line": a.line, "column": a.column, "end_line": b.line, "end_column": b.column}
 
 
-def diagnostic_record(source: SourceFile, d: Diagnostic) -> dict[str, Any]:
+def diagnostic_record(source: SourceFile, d: Diagnostic) -> JSONObject:
     """One diagnostic as the JSON object of `scriptc lint --format json`."""
-    record: dict[str, Any] = {
+    record: JSONObject = {
         "code": d.code,
         "name": _code_name(d.code),
         "severity": d.severity.value,
@@ -331,7 +349,7 @@ def diagnostic_record(source: SourceFile, d: Diagnostic) -> dict[str, Any]:
     return record
 
 
-def render_json(results: Sequence[Any]) -> str:
+def render_json(results: Results) -> str:
     from scriptc.numbers import json_dumps  # the JSON writer: never NaN or Infinity
 
     records = [diagnostic_record(source, d) for source, ds in _pairs(results) for d in ds]
@@ -380,14 +398,14 @@ def _sarif_region(source: SourceFile, span: Span) -> dict[str, int]:
             "endLine": r["end_line"], "endColumn": r["end_column"]}
 
 
-def _sarif_rule(code: str) -> dict[str, Any]:
+def _sarif_rule(code: str) -> JSONObject:
     from scriptc.diagnostics.codes import explanation
 
     entry = _code_entry(code)
     if entry is None:
         return {"id": code}
     long = explanation(code)
-    rule: dict[str, Any] = {
+    rule: JSONObject = {
         "id": code,
         "name": entry.name,
         "shortDescription": {"text": entry.summary},
@@ -399,7 +417,7 @@ def _sarif_rule(code: str) -> dict[str, Any]:
     return rule
 
 
-def render_sarif(results: Sequence[Any]) -> str:
+def render_sarif(results: Results) -> str:
     import os
     from pathlib import Path
 
@@ -420,15 +438,15 @@ def render_sarif(results: Sequence[Any]) -> str:
 
         def location(span: Span, message: str | None = None, *,
                      artifact: dict[str, str] = artifact,
-                     source: SourceFile = source) -> dict[str, Any]:
-            loc: dict[str, Any] = {"physicalLocation": {
+                     source: SourceFile = source) -> JSONObject:
+            loc: JSONObject = {"physicalLocation": {
                 "artifactLocation": artifact, "region": _sarif_region(source, span)}}
             if message is not None:
                 loc["message"] = {"text": message}
             return loc
 
         for d in diagnostics:
-            result: dict[str, Any] = {
+            result: JSONObject = {
                 "ruleId": d.code,
                 "ruleIndex": index[d.code],
                 "level": _SARIF_LEVEL[d.severity],
@@ -459,7 +477,7 @@ def render_sarif(results: Sequence[Any]) -> str:
             if properties:
                 result["properties"] = properties
             sarif_results.append(result)
-    log: dict[str, Any] = {
+    log: JSONObject = {
         "$schema": SARIF_SCHEMA,
         "version": "2.1.0",
         "runs": [{
@@ -495,7 +513,7 @@ def _escape_property(text: str) -> str:
     return _escape_data(text).replace(":", "%3A").replace(",", "%2C")
 
 
-def render_github(results: Sequence[Any]) -> str:
+def render_github(results: Results) -> str:
     """Workflow commands; `file=` is relative to the repository's root (GitHub attaches an
     annotation to a pull request's diff only so: `scriptc.paths.repository_path`)."""
     out = []
@@ -522,7 +540,7 @@ def _printable(text: str) -> str:
                                                    for c in text)
 
 
-def render_grouped(results: Sequence[Any], *, unsafe: bool = False) -> str:
+def render_grouped(results: Results, *, unsafe: bool = False) -> str:
     """Each file with diagnostics, then one line per diagnostic: `  LINE:COL CODE [*] severity:
     message` (`[*]`: `--fix` can fix it; with `unsafe`, `--fix --unsafe-fixes`), a blank line
     between files, and the summary."""
@@ -556,7 +574,7 @@ FORMATS = tuple(RENDERERS)
 LINT_FORMATS = (*FORMATS, "grouped")
 
 
-def render(format: str, results: Sequence[Any], *, color: bool = False,
+def render(format: str, results: Results, *, color: bool = False,
            unsafe: bool = False) -> str:
     """Render with the renderer named `format` (one of LINT_FORMATS); `color` only matters
     for text, `unsafe` for grouped (the unsafe fixes are marked as `--fix` takes them)."""
@@ -568,11 +586,41 @@ def render(format: str, results: Sequence[Any], *, color: bool = False,
 
 
 # ---------------------------------------------------------------------------------------------
-# A lint run as a whole (`scriptc.ops.lint.LintRun`: `results`, `files`, `cached`, `fixed`,
-# `fixed_files`, `fixable`, `hidden_fixes`, `unsafe_fixes`)
+# A lint run as a whole
 
 
-def render_statistics(run: Any, format: str) -> str:
+class LintTotals(Protocol):
+    """What the summaries read of a lint run (`scriptc.ops.lint.LintRun`): its results, the
+    files read and those from the cache, the fixes applied and the files they changed, the
+    fixes available (`fixable`: as `--fix` takes them; `hidden_fixes`: the unsafe ones left
+    out), and whether the unsafe fixes count."""
+
+    @property
+    def results(self) -> Results: ...
+
+    @property
+    def files(self) -> int: ...
+
+    @property
+    def cached(self) -> int: ...
+
+    @property
+    def fixed(self) -> int: ...
+
+    @property
+    def fixed_files(self) -> int: ...
+
+    @property
+    def fixable(self) -> int: ...
+
+    @property
+    def hidden_fixes(self) -> int: ...
+
+    @property
+    def unsafe_fixes(self) -> bool: ...
+
+
+def render_statistics(run: LintTotals, format: str) -> str:
     """`lint --statistics`: how many diagnostics of each code, most frequent first (then by
     code), with the code's name and `[*]` when `--fix` fixes every one of them (as ruff's);
     as text, or as JSON (`code`, `name`, `severity`, `count`, `fixable`) with `format`
@@ -602,7 +650,7 @@ def render_statistics(run: Any, format: str) -> str:
     return "".join(lines)
 
 
-def diff_summary(run: Any) -> str:
+def diff_summary(run: LintTotals) -> str:
     """The line `scriptc lint --diff` ends with on stderr."""
     if run.fixed:
         line = (f"would fix {plural(run.fixed, 'problem')} in "
@@ -614,7 +662,7 @@ def diff_summary(run: Any) -> str:
     return line + "\n"
 
 
-def lint_summary(run: Any, several: bool = True) -> str:
+def lint_summary(run: LintTotals, several: bool = True) -> str:
     """The lines `scriptc lint` ends with on stderr: what --fix did, and (`several` files)
     what was found."""
     lines: list[str] = []
