@@ -23,21 +23,23 @@ Choices beyond RFC 8259, each for a reason:
 from __future__ import annotations
 
 import re
+from collections.abc import Iterable
+from typing import TypeAlias
 
 from scriptc.gcpause import gc_paused
 from scriptc.numbers import NumberError, json_number
 from scriptc.source import SourceFile, Span
 
-__all__ = ["JsonNode", "Member", "JsonError", "parse_json", "string_offsets"]
+__all__ = ["JsonError", "JsonNode", "JsonScalar", "Member", "parse_json", "string_offsets"]
 
-
-_EMPTY: list = []  # shared by scalars; never appended to
+# The Python value of a JSON scalar (a string, a number, `true`/`false`, `null`).
+JsonScalar: TypeAlias = str | int | float | bool | None
 
 
 class Member:
     """One `"key": value` pair of an object; `key_span` covers the key with its quotes."""
 
-    __slots__ = ("key", "key_start", "key_end", "value")
+    __slots__ = ("key", "key_end", "key_start", "value")
 
     def __init__(self, key: str, key_start: int, key_end: int, value: JsonNode) -> None:
         self.key = key
@@ -64,17 +66,17 @@ class JsonNode:
 
     # A plain slotted class holding offsets rather than a dataclass holding a Span: a large
     # file makes hundreds of thousands of nodes, and allocation is most of the parse time.
-    __slots__ = ("kind", "start", "end", "value", "raw", "items", "members")
+    __slots__ = ("end", "items", "kind", "members", "raw", "start", "value")
 
-    def __init__(self, kind: str, start: int, end: int, value: object = None,
+    def __init__(self, kind: str, start: int, end: int, value: JsonScalar = None,
                  raw: str = "") -> None:
         self.kind = kind
         self.start = start
         self.end = end
         self.value = value
         self.raw = raw
-        self.items: list[JsonNode] = [] if kind == "array" else _EMPTY
-        self.members: list[Member] = [] if kind == "object" else _EMPTY
+        self.items: list[JsonNode] = [] if kind == "array" else _NO_ITEMS
+        self.members: list[Member] = [] if kind == "object" else _NO_MEMBERS
 
     def __repr__(self) -> str:
         return f"JsonNode({self.kind}, {self.start}-{self.end})"
@@ -110,7 +112,7 @@ class JsonNode:
             return self.items[step]
         return None
 
-    def locate(self, steps) -> tuple[JsonNode, Member | None]:
+    def locate(self, steps: Iterable[str | int]) -> tuple[JsonNode, Member | None]:
         """The node at a path of keys and indices (as jsonschema reports one), and the member
         that holds it when the last step is a key; where the path leaves the document, the
         last node it reached."""
@@ -130,24 +132,34 @@ class JsonNode:
         code that recurses (jsonschema, `repr`) and looks no deeper anyway."""
         if self.kind not in ("object", "array"):
             return self.value
-        root: object = {} if self.kind == "object" else []
-        stack: list[tuple[JsonNode, object, int]] = [(self, root, 0)]
+        root: _Container = {} if self.kind == "object" else []
+        stack: list[tuple[JsonNode, _Container, int]] = [(self, root, 0)]
         while stack:
             node, out, depth = stack.pop()
             if max_depth is not None and depth >= max_depth:
                 continue
-            if node.kind == "object":
+            if isinstance(out, dict):  # (the node is an object)
                 for m in node.members:
-                    out[m.key] = _shell(m.value, stack, depth + 1)  # type: ignore[index]
+                    out[m.key] = _shell(m.value, stack, depth + 1)
             else:
                 for item in node.items:
-                    out.append(_shell(item, stack, depth + 1))  # type: ignore[union-attr]
+                    out.append(_shell(item, stack, depth + 1))
         return root
 
 
-def _shell(node: JsonNode, stack: list, depth: int) -> object:
+# Shared by the nodes that are not arrays, or not objects; never appended to.
+_NO_ITEMS: list[JsonNode] = []
+_NO_MEMBERS: list[Member] = []
+
+# A container of `JsonNode.to_python`, filled as its stack is worked off.
+_Container: TypeAlias = dict[str, object] | list[object]
+
+
+def _shell(node: JsonNode, stack: list[tuple[JsonNode, _Container, int]],
+           depth: int) -> object:
+    out: _Container
     if node.kind == "object":
-        out: object = {}
+        out = {}
     elif node.kind == "array":
         out = []
     else:
@@ -198,7 +210,8 @@ def _parse_string(text: str, start: int) -> tuple[str, int]:
     parts: list[str] = []
     while True:
         run = _STRING_RUN.match(text, pos)
-        end = run.end()  # type: ignore[union-attr]
+        assert run is not None  # (a run of no characters at the least)
+        end = run.end()
         if end > pos:
             parts.append(text[pos:end])
         pos = end
@@ -291,8 +304,8 @@ def _scalar(text: str, pos: int) -> tuple[JsonNode, int]:
     n = len(text)
     ch = text[pos] if pos < n else ""
     if ch == '"':
-        value, end = _parse_string(text, pos)
-        return JsonNode("string", pos, end, value), end
+        string, end = _parse_string(text, pos)
+        return JsonNode("string", pos, end, string), end
     if ch and (ch == "-" or ch.isdigit() or ch in "+."):
         if text.startswith("-Infinity", pos):
             raise JsonError("`-Infinity` is not a JSON number: JSON numbers are finite",
@@ -303,24 +316,25 @@ def _scalar(text: str, pos: int) -> tuple[JsonNode, int]:
         if m is None or m.end() != loose_end:
             bad = text[pos:loose_end]
             hint = ""
-            if bad.lstrip("-").startswith("0") and len(bad.lstrip("-")) > 1 and bad.lstrip("-")[1:2].isdigit():
+            unsigned = bad.lstrip("-")
+            if unsigned.startswith("0") and len(unsigned) > 1 and unsigned[1:2].isdigit():
                 hint = ": JSON numbers have no leading zeros"
             elif bad.startswith("+"):
                 hint = ": JSON numbers have no `+` sign"
-            elif bad.startswith(".") or bad.startswith("-.") or bad.endswith("."):
+            elif bad.startswith((".", "-.")) or bad.endswith("."):
                 hint = ": write a digit on both sides of the decimal point"
             raise JsonError(f"invalid number `{bad}`{hint}", Span(pos, loose_end), text)
         raw = m.group()
         end = m.end()
-        value = _number(text, raw, pos, not (m.group(1) or m.group(2)))
-        return JsonNode("number", pos, end, value, raw), end
+        number = _number(text, raw, pos, not (m.group(1) or m.group(2)))
+        return JsonNode("number", pos, end, number, raw), end
     w = _WORD.match(text, pos)
     if w is not None:
         word = w.group()
         span = Span(pos, w.end())
         if word in _LITERALS:
-            kind, value = _LITERALS[word]
-            return JsonNode(kind, pos, span.end, value), span.end
+            kind, literal = _LITERALS[word]
+            return JsonNode(kind, pos, span.end, literal), span.end
         if word in ("NaN", "Infinity"):
             raise JsonError(f"`{word}` is not a JSON number: JSON numbers are finite", span, text)
         if word in ("True", "False", "None"):
@@ -338,7 +352,9 @@ def _scalar(text: str, pos: int) -> tuple[JsonNode, int]:
 
 
 def _skip(text: str, pos: int) -> int:
-    return _WS.match(text, pos).end()  # type: ignore[union-attr]
+    blank = _WS.match(text, pos)
+    assert blank is not None  # (no blank at the least)
+    return blank.end()
 
 
 def _unclosed(node: JsonNode) -> tuple[tuple[Span, str], ...]:
@@ -356,7 +372,10 @@ _TOKEN = re.compile(
     r"|(true|false|null)(?![A-Za-z0-9_]))"
 )
 _COLON = re.compile(r"[ \t\n\r]*:")
-_LITERALS = {"true": ("boolean", True), "false": ("boolean", False), "null": ("null", None)}
+_LITERALS: dict[str, tuple[str, bool | None]] = {
+    "true": ("boolean", True), "false": ("boolean", False), "null": ("null", None)}
+# The key of the value being parsed, per open container (an array's: none, never read).
+_NO_KEY = ("", -1, -1)
 _VALUE, _AFTER, _KEY = 0, 1, 2
 
 
@@ -377,9 +396,9 @@ def _parse(text: str, max_depth: int | None) -> JsonNode:
     # reports) and the key whose value is being parsed.
     stack: list[JsonNode] = []
     keys_stack: list[dict[str, int]] = []
-    pending: list[tuple[str, int, int] | None] = []
+    pending: list[tuple[str, int, int]] = []
     mode = _VALUE
-    done: JsonNode | None = None
+    done: JsonNode  # the value just completed (each way to the end of the loop sets it)
     comma = -1  # where the last comma was (for the trailing-comma message)
     token = _TOKEN.match
     colon = _COLON.match
@@ -398,7 +417,7 @@ def _parse(text: str, max_depth: int | None) -> JsonNode:
                 elif g == 5:
                     raw = m.group(5)
                     if len(raw) < 16 and not (m.group(6) or m.group(7)):
-                        value: object = int(raw)  # the common case, within any policy
+                        value: JsonScalar = int(raw)  # the common case, within any policy
                     else:
                         value = _number(text, raw, m.start(5), not (m.group(6) or m.group(7)))
                     done = JsonNode("number", m.start(5), m.end(), value, raw)
@@ -423,7 +442,7 @@ def _parse(text: str, max_depth: int | None) -> JsonNode:
                     else:
                         stack.append(node)
                         keys_stack.append({})
-                        pending.append(None)
+                        pending.append(_NO_KEY)
                         mode = _KEY if kind == "object" else _VALUE
                         continue
                 else:
@@ -521,10 +540,10 @@ def _parse(text: str, max_depth: int | None) -> JsonNode:
             break
         parent = stack[-1]
         if parent.kind == "array":
-            parent.items.append(done)  # type: ignore[arg-type]
+            parent.items.append(done)
         else:
-            key, key_start, key_end = pending[-1]  # type: ignore[misc]
-            parent.members.append(Member(key, key_start, key_end, done))  # type: ignore[arg-type]
+            key, key_start, key_end = pending[-1]
+            parent.members.append(Member(key, key_start, key_end, done))
         mode = _AFTER
 
     pos = _skip(text, pos)
@@ -532,7 +551,7 @@ def _parse(text: str, max_depth: int | None) -> JsonNode:
     if pos < n:
         raise JsonError(f"unexpected {_shown(text[pos])} after the end of the JSON value",
                         Span(pos, pos + 1), text)
-    return done  # type: ignore[return-value]
+    return done
 
 
 def _no_comment(text: str, pos: int) -> None:

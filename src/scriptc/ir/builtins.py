@@ -8,7 +8,7 @@ signatures live here; the run-time implementations belong to the interpreter.
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass
 
 
@@ -123,7 +123,7 @@ class FunctionRegistry:
     def names(self, kind: str | None = None) -> list[str]:
         return sorted(n for n, f in self._by_name.items() if kind is None or f.kind == kind)
 
-    def __iter__(self):
+    def __iter__(self) -> Iterator[Function]:
         return iter(self._by_name.values())
 
     def extended(self, functions: Iterable[Function]) -> FunctionRegistry:

@@ -8,8 +8,8 @@ from __future__ import annotations
 
 import re
 
-from scriptc.diagnostics.model import Diagnostic
 from scriptc.diagnostics.codes import diagnostic
+from scriptc.diagnostics.model import Diagnostic
 from scriptc.ir.nodes import Number
 from scriptc.language import NUMBER_PATTERN
 from scriptc.source import Span
@@ -20,7 +20,7 @@ from scriptc.source import Span
 NUMBER_RE = re.compile(NUMBER_PATTERN)
 
 
-def fields_pattern(count: int, text_first: bool = False) -> re.Pattern:
+def fields_pattern(count: int, text_first: bool = False) -> re.Pattern[str]:
     """A command string of `count` comma-separated numbers (the first a non-empty text when
     `text_first`, which may itself hold commas, as an audio path), blanks around each: group i
     is field i, trimmed as `str.strip` trims (`\\s` is `str.isspace`). The text ends at a

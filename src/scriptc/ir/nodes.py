@@ -15,12 +15,12 @@ A script is a tree: Script > Goal > Action > Block. Blocks are addressed by thei
 from __future__ import annotations
 
 import math
-from dataclasses import MISSING, dataclass, fields
-from typing import TypeVar, Union, dataclass_transform
+from dataclasses import MISSING, dataclass, fields, is_dataclass
+from types import FunctionType
+from typing import TypeAlias, TypeVar, dataclass_transform
 
 from scriptc.numbers import whole_number
 from scriptc.source import Span
-
 
 _Node = TypeVar("_Node")
 
@@ -32,7 +32,10 @@ def node(cls: type[_Node]) -> type[_Node]:
     large script; this one calls each slot's own setter (same objects, same equality, hash and
     repr, still frozen). Fields may have plain defaults (no factories, no `__post_init__`)."""
     cls = dataclass(frozen=True, slots=True)(cls)
-    params, body, namespace = [], [], {}
+    assert is_dataclass(cls)
+    params: list[str] = []
+    body: list[str] = []
+    namespace: dict[str, object] = {}
     for i, f in enumerate(fields(cls)):
         if f.default_factory is not MISSING or not f.init:
             raise TypeError(f"{cls.__name__}.{f.name}: only plain fields and defaults")
@@ -44,11 +47,12 @@ def node(cls: type[_Node]) -> type[_Node]:
             params.append(f"{f.name}=default_{i}")
         body.append(f"    set_{i}(self, {f.name})")
     code = f"def __init__(self, {', '.join(params)}):\n" + "\n".join(body) + "\n"
-    exec(code, namespace)  # noqa: S102 - code made here from the field names
+    exec(code, namespace)
     init = namespace["__init__"]
+    assert isinstance(init, FunctionType)
     init.__qualname__ = f"{cls.__qualname__}.__init__"
     init.__doc__ = cls.__init__.__doc__
-    cls.__init__ = init
+    cls.__init__ = init  # type: ignore[method-assign]  # the point: dataclass's __init__ replaced
     return cls
 
 
@@ -159,7 +163,7 @@ class VarRef:
     span: Span
 
 
-Value = Union[NumberValue, StringValue, AliasRef, FieldRef, AttRef, VarRef]
+Value: TypeAlias = NumberValue | StringValue | AliasRef | FieldRef | AttRef | VarRef
 
 
 @node
@@ -190,7 +194,7 @@ class CallTest:
     span: Span
 
 
-Test = Union[FieldTest, CallTest]
+Test: TypeAlias = FieldTest | CallTest
 
 
 @node
@@ -225,7 +229,7 @@ class AttAssignment:
     span: Span
 
 
-Assignment = Union[ClassAssignment, VarAssignment, AttAssignment]
+Assignment: TypeAlias = ClassAssignment | VarAssignment | AttAssignment
 
 
 @node
@@ -243,7 +247,7 @@ class TrueEvaluation:
     span: Span
 
 
-Evaluation = Union[CallEvaluation, TrueEvaluation]
+Evaluation: TypeAlias = CallEvaluation | TrueEvaluation
 
 
 @node
@@ -264,11 +268,9 @@ class Condition:
             return True
         if self.assignments:
             return False
-        for ev in self.evaluations:
-            if isinstance(ev, TrueEvaluation):
-                return True
-            return False
-        return True  # "!" alone: an empty conjunction is true
+        if not self.evaluations:
+            return True  # "!" alone: an empty conjunction is true
+        return isinstance(self.evaluations[0], TrueEvaluation)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -318,7 +320,7 @@ class AudioCommand:
     span: Span
 
 
-Command = Union[MoveCommand, LedCommand, AudioCommand]
+Command: TypeAlias = MoveCommand | LedCommand | AudioCommand
 
 
 @node
@@ -340,10 +342,9 @@ class InstructionBlock:
             for command in track:
                 wait, duration = command.wait_t.text, command.duration.text
                 if not (wait.isdigit() and duration.isdigit() and wait.isascii()
-                        and duration.isascii()):  # the common case first, then signs
-                    if not (command.wait_t.is_integer_text
-                            and command.duration.is_integer_text):
-                        return None
+                        and duration.isascii()) and not (  # the common case first, then signs
+                        command.wait_t.is_integer_text and command.duration.is_integer_text):
+                    return None
                 wait_ms, duration_ms = whole_number(wait), whole_number(duration)
                 if wait_ms is None or duration_ms is None:  # hundreds of digits: V003
                     return None
@@ -381,7 +382,7 @@ class SensorBlock:
     span: Span
 
 
-Block = Union[InstructionBlock, JumpBlock, TerminusBlock, SensorBlock]
+Block: TypeAlias = InstructionBlock | JumpBlock | TerminusBlock | SensorBlock
 
 
 @node

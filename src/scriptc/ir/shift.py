@@ -23,6 +23,8 @@ from __future__ import annotations
 import dataclasses
 import enum
 from collections.abc import Callable
+from types import ModuleType
+from typing import Any, TypeAlias, TypeVar
 
 from scriptc.diagnostics import model as _model
 from scriptc.ir import nodes as _nodes
@@ -30,21 +32,27 @@ from scriptc.source import Span
 
 __all__ = ["map_spans", "shift"]
 
+# A function of one family: (a value, the family's argument: a delta or a remap) -> the value
+# with its spans moved, of the same type. `exec` builds them from dataclass fields, so they are
+# typed at this boundary; `shift` and `map_spans` say what comes out.
+_Move: TypeAlias = Callable[[Any, Any], Any]
+_Value = TypeVar("_Value")
+
 _tuple_new = tuple.__new__
 _LEAVES = (str, int, float, bool, enum.Enum)
 # The generated functions of each dataclass, by family: "shift" takes a delta, "map" a remap.
-_SHIFTERS: dict[type, object] = {}
-_MAPPERS: dict[type, object] = {}
+_SHIFTERS: dict[type, _Move] = {}
+_MAPPERS: dict[type, _Move] = {}
 _FAMILIES = {"shift": _SHIFTERS, "map": _MAPPERS}
 # A moved span, in each family: `x` is the span, `d` the delta or the remap.
 _MOVED = {"shift": "tnew(S, ({x}[0] + d, {x}[1] + d))", "map": "d({x})"}
 
 
-def _dispatcher(movers: dict[type, object], move_span: Callable) -> Callable:
+def _dispatcher(movers: dict[type, _Move], move_span: _Move) -> _Move:
     """The function that moves the spans of any value of one family: a dataclass through its
     generated function, a span through `move_span`, a tuple element by element."""
 
-    def move_any(value, d):
+    def move_any(value: object, d: object) -> object:
         mover = movers.get(type(value))
         if mover is not None:
             return mover(value, d)
@@ -53,7 +61,7 @@ def _dispatcher(movers: dict[type, object], move_span: Callable) -> Callable:
         t = type(value)
         if t is Span:
             return move_span(value, d)
-        if t is tuple:
+        if t is tuple and isinstance(value, tuple):  # (a plain tuple: not a named one)
             return tuple([move_any(v, d) for v in value])
         if isinstance(value, _LEAVES):
             return value
@@ -84,7 +92,8 @@ def _compile(cls: type, known: set[str], family: str) -> None:
         setter = f"set_{name}_{f.name}"
         _ENV[setter] = cls.__dict__[f.name].__set__
         get = f"o.{f.name}"
-        element = annotation[len("tuple["):-len(", ...]")] if annotation.startswith("tuple[") else ""
+        element = (annotation[len("tuple["):-len(", ...]")] if annotation.startswith("tuple[")
+                   else "")
         optional = annotation[:-len(" | None")] if annotation.endswith(" | None") else ""
         if annotation == "Span":
             value = _MOVED[family].format(x=get)
@@ -105,11 +114,13 @@ def _compile(cls: type, known: set[str], family: str) -> None:
             value = f"{family}_any({get}, d)"
         lines.append(f"    {setter}(n, {value})")
     lines.append("    return n")
-    exec("\n".join(lines), _ENV)  # noqa: S102 - code generated from dataclass fields only
-    _FAMILIES[family][cls] = _ENV[f"{family}_{name}"]
+    exec("\n".join(lines), _ENV)  # (code generated from the dataclass's fields only)
+    move = _ENV[f"{family}_{name}"]
+    assert callable(move)
+    _FAMILIES[family][cls] = move
 
 
-def _register(*modules) -> None:
+def _register(*modules: ModuleType) -> None:
     classes = [value for module in modules for value in vars(module).values()
                if isinstance(value, type) and dataclasses.is_dataclass(value)
                and value.__module__ == module.__name__ and "__slots__" in value.__dict__]
@@ -122,13 +133,15 @@ def _register(*modules) -> None:
 _register(_nodes, _model)
 
 
-def shift(value, delta: int):
+def shift(value: _Value, delta: int) -> _Value:
     """`value` with every span moved by `delta` characters (the value itself when 0)."""
     if delta == 0:
         return value
-    return _shift_any(value, delta)
+    moved: _Value = _shift_any(value, delta)
+    return moved
 
 
-def map_spans(value, remap: Callable[[Span], Span]):
+def map_spans(value: _Value, remap: Callable[[Span], Span]) -> _Value:
     """`value` with every span replaced by `remap(span)`."""
-    return _map_any(value, remap)
+    mapped: _Value = _map_any(value, remap)
+    return mapped
