@@ -21,22 +21,34 @@ from __future__ import annotations
 
 import bisect
 import math
+from collections.abc import Iterable, Sequence
+from typing import TYPE_CHECKING
 
-from scriptc.runtime.robots import Pose
+from scriptc.runtime.robots import Pose, Ramp, Robot
+from scriptc.runtime.trace import Event
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+    from scriptc.runtime.scenario import Scenario
+
+# A recorded pose: (t_ms, x, y, theta).
+Sample = tuple[int, float, float, float]
 
 
 class PathRecorder:
     """A `Robot` wrapper that records `(t_ms, x, y, theta)` samples."""
 
-    def __init__(self, robot, every_ms: int = 20) -> None:
+    def __init__(self, robot: Robot, every_ms: int = 20) -> None:
         self.robot = robot
         self.name = getattr(robot, "name", type(robot).__name__)
         self.every = every_ms
         self.t = 0
         p = robot.pose()
-        self.samples: list[tuple[int, float, float, float]] = [(0, p.x, p.y, p.theta)]
+        self.samples: list[Sample] = [(0, p.x, p.y, p.theta)]
 
-    def __getattr__(self, name: str):
+    def __getattr__(self, name: str) -> object:
+        """The backend's own attributes (`set_led`, `time_ms`, ...), as the backend has them."""
         return getattr(self.robot, name)
 
     def advance(self, t_ms: int) -> None:
@@ -48,12 +60,16 @@ class PathRecorder:
             self.samples.append((step, p.x, p.y, p.theta))
 
     def set_velocity(self, t_ms: int, v_x: float, v_y: float, v_theta: float,
-                     ramp=None) -> None:
+                     ramp: Ramp | None = None) -> None:
         self.advance(t_ms)
         self.robot.set_velocity(t_ms, v_x, v_y, v_theta, ramp=ramp)
 
     def pose(self) -> Pose:
         return self.robot.pose()
+
+    def ghost(self) -> Robot:
+        """The backend's ghost (`Robot.ghost`): where the robot will be is not its path."""
+        return self.robot.ghost()
 
 
 _TRACKS = ("move", "led", "audioout")
@@ -77,10 +93,12 @@ def footprint_radius() -> float:
 
     model = resources.files("scriptc.runtime.robots").joinpath("teo.xml").read_text("utf-8")
     base = ElementTree.fromstring(model).find(".//geom[@name='base']")
-    return float(base.get("size").split()[0])
+    size = None if base is None else base.get("size")
+    assert size is not None, "the shipped model's geom `base` has a size"
+    return float(size.split()[0])
 
 
-def pose_at(samples, t_ms: int) -> tuple[float, float, float]:
+def pose_at(samples: Sequence[Sample], t_ms: int) -> tuple[float, float, float]:
     """The robot's (x, y, theta) at `t_ms`, interpolated between the recorded samples (the
     origin facing +x before any)."""
     if not samples:
@@ -91,12 +109,13 @@ def pose_at(samples, t_ms: int) -> tuple[float, float, float]:
         return samples[0][1:]
     if i == len(samples) or samples[i - 1][0] == t_ms:
         return samples[i - 1][1:]
-    (t0, *a), (t1, *b) = samples[i - 1], samples[i]
+    (t0, x0, y0, theta0), (t1, x1, y1, theta1) = samples[i - 1], samples[i]
     f = (t_ms - t0) / (t1 - t0)
-    return tuple(p + f * (q - p) for p, q in zip(a, b))  # type: ignore[return-value]
+    return x0 + f * (x1 - x0), y0 + f * (y1 - y0), theta0 + f * (theta1 - theta0)
 
 
-def map_positions(events, samples) -> tuple[dict[str, list[tuple[int, float, float]]], list[str]]:
+def map_positions(events: Iterable[Event], samples: Sequence[Sample]
+                  ) -> tuple[dict[str, list[tuple[int, float, float]]], list[str]]:
     """Where the map put each person, object and obstacle, in the world frame: for every
     applied `poses` update, the entity's `positionrho` and `positiontheta` (relative to the
     robot, as a sensor sends them; a message may carry one of the two, the other keeping its
@@ -130,9 +149,10 @@ def map_positions(events, samples) -> tuple[dict[str, list[tuple[int, float, flo
     return paths, [objectid for objectid in known if objectid not in paths]
 
 
-def _intervals(events):
+def _intervals(events: Iterable[Event]) -> list[tuple[str, int, int, Event]]:
     """(track, start, end, command) of every command that ran, from cmd_start/cmd_stop."""
-    running, out = {}, []
+    running: dict[str, tuple[int, Event]] = {}
+    out: list[tuple[str, int, int, Event]] = []
     end_t = 0
     for e in events:
         end_t = max(end_t, e["t"])
@@ -146,7 +166,8 @@ def _intervals(events):
     return out
 
 
-def draw_run(events: list[dict], samples=None, scenario=None):
+def draw_run(events: list[Event], samples: Sequence[Sample] | None = None,
+             scenario: Scenario | None = None) -> Figure:
     """The picture of a run, as a matplotlib Figure: above, the room seen from above (the
     robot's path and footprint, every person, object and obstacle the run knew, each labelled
     with its path over time); below, the timeline of the three tracks."""
@@ -196,13 +217,14 @@ def draw_run(events: list[dict], samples=None, scenario=None):
         ys.extend(p[2] for p in path)
 
     classes: set[str] = set()
-    placed = {e.objectid for e in getattr(scenario, "entities", ()) or ()}
-    for placed_entity in getattr(scenario, "entities", ()) or ():
+    entities = scenario.entities if scenario is not None else []
+    placed = {e.objectid for e in entities}
+    for placed_entity in entities:
         start = placed_entity.start
         stop = max(start, end if placed_entity.stop is None else min(placed_entity.stop, end))
         entity(placed_entity.objectid, [(start, *placed_entity.position(start)),
                                         (stop, *placed_entity.position(stop))], "--")
-    sent, no_position = map_positions(events, samples)
+    sent, no_position = map_positions(events, samples or [])
     for objectid, points in sent.items():
         if objectid not in placed:
             entity(objectid, points, "-")
@@ -234,6 +256,7 @@ def draw_run(events: list[dict], samples=None, scenario=None):
     for track, start, stop, command in _intervals(events):
         y = lane[track]
         width = max(stop - start, 1) / 1000.0
+        colour: tuple[float, float, float] | str
         if track == "led":
             on = command.get("turnas") == 1
             colour = (command["r"], command["g"], command["b"]) if on else (0.15, 0.15, 0.15)
@@ -274,7 +297,8 @@ def draw_run(events: list[dict], samples=None, scenario=None):
     return fig
 
 
-def plot_run(events: list[dict], path: str, samples=None, scenario=None) -> None:
+def plot_run(events: list[Event], path: str, samples: Sequence[Sample] | None = None,
+             scenario: Scenario | None = None) -> None:
     """Draw the run into `path` (.png or .svg; WriteError when it cannot be written)."""
     from matplotlib import pyplot as plt
 

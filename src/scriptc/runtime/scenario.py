@@ -25,15 +25,28 @@ from __future__ import annotations
 import difflib
 import json
 import os
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from functools import cache
-from typing import Any
+from typing import TYPE_CHECKING
 
 from scriptc.analysis.read import ReadError, read_bytes
 from scriptc.encoding import decode
 from scriptc.frontend.jsonpos import JsonError, JsonNode, Member, parse_json, string_offsets
-from scriptc.runtime.world import JSONMSG_DEPTH, MapUpdate, UpdateError, parse_update
+from scriptc.runtime.world import (
+    JSONMSG_DEPTH,
+    JSONValue,
+    MapUpdate,
+    Record,
+    UpdateError,
+    parse_update,
+)
 from scriptc.source import SourceFile, Span
+
+if TYPE_CHECKING:
+    from jsonschema import Draft202012Validator
+
+    from scriptc.runtime.sensing import PlacedEntity
 
 SCHEMA_NAME = "scenario.schema.json"
 
@@ -59,7 +72,7 @@ class ScenarioError(Exception):
     def lines(self) -> list[str]:
         """One line per problem: `scenario FILE:LINE:COLUMN: where: what`."""
         out = []
-        for problem, position in zip(self.problems, self.positions):
+        for problem, position in zip(self.problems, self.positions, strict=True):
             at = f":{position[0]}:{position[1]}" if position is not None else ""
             out.append(f"scenario {self.path}{at}: {problem}")
         return out
@@ -76,7 +89,7 @@ class TimedUpdate:
 class OperatorEvent:
     at: int
     command: str  # "safety_lock", "drive" or "interrupt"
-    params: dict
+    params: Record
     index: int
 
 
@@ -87,26 +100,27 @@ class Scenario:
     operator: list[OperatorEvent] = field(default_factory=list)
     folder: str = ""  # where paths in the scenario (a `script_vect` update) are resolved from
     # Placed people, objects and obstacles, sensed by the simulation (runtime/sensing.py).
-    entities: list = field(default_factory=list)  # of sensing.PlacedEntity
+    entities: list[PlacedEntity] = field(default_factory=list)
     sensing_rate_hz: float = 10.0
     sensing_range: float | None = None
 
 
 @cache
-def _schema() -> dict:
+def _schema() -> Record:
     from scriptc.resources import schema_path
 
-    return json.loads(schema_path(SCHEMA_NAME).read_text(encoding="utf-8"))
+    schema: Record = json.loads(schema_path(SCHEMA_NAME).read_text(encoding="utf-8"))
+    return schema
 
 
 @cache
-def _validator():
+def _validator() -> Draft202012Validator:
     import jsonschema
 
     return jsonschema.Draft202012Validator(_schema())
 
 
-def _where(steps) -> str:
+def _where(steps: Iterable[str | int]) -> str:
     out = ""
     for step in steps:
         out += f"[{step}]" if isinstance(step, int) else (f".{step}" if out else str(step))
@@ -156,7 +170,7 @@ def _schema_problems(root: JsonNode, problems: _Problems) -> None:
     for error in errors:
         steps = list(error.absolute_path)
         where = _where(steps)
-        node, member = root.locate(steps)
+        node, _member = root.locate(steps)
         kind = error.validator
         schema = error.schema
         if kind == "additionalProperties":
@@ -220,7 +234,7 @@ def _forbidden(node: JsonNode) -> list[tuple[Member, str]]:
         for rule in definition.get("allOf", ()) if isinstance(definition, dict) else ():
             condition = rule.get("if", {}).get("properties", {})
             if not condition or not all(
-                    isinstance(node.get(k), JsonNode) and node.get(k).value == c.get("const")
+                    (given := node.get(k)) is not None and given.value == c.get("const")
                     for k, c in condition.items()):
                 continue
             banned = rule.get("then", {}).get("properties", {})
@@ -261,15 +275,17 @@ def scenario_from_text(text: str, path: str = "<scenario>", folder: str | None =
     problems = _Problems(source)
     _schema_problems(root, problems)
     problems.raise_if_any()
-    data: dict = root.to_python()  # type: ignore[assignment]
+    data = root.to_python()
+    assert isinstance(data, dict)  # the schema has checked it: an object
     scenario = Scenario(path, folder=folder if folder is not None else os.getcwd())
     updates = root.get("updates")
+    update_nodes = updates.items if updates is not None else []
     for i, item in enumerate(data.get("updates", ())):
         try:
             update = parse_update(item["objectid"], item["attributename"], item["policy"],
                                   item["jsonmsg"])
         except UpdateError as exc:
-            node = updates.items[i]  # type: ignore[union-attr]
+            node = update_nodes[i]
             problems.add(f"updates[{i}] (at {item['at']} ms)", str(exc),
                          _update_span(node, exc, text))
             continue
@@ -291,7 +307,8 @@ def scenario_from_text(text: str, path: str = "<scenario>", folder: str | None =
     return scenario
 
 
-def scenario_from_data(data: Any, path: str = "<scenario>", folder: str | None = None) -> Scenario:
+def scenario_from_data(data: JSONValue, path: str = "<scenario>", folder: str | None = None
+                       ) -> Scenario:
     """A scenario from parsed JSON (a dict, as tests and generators build one): written as
     JSON text and read as a file is, so the same rules hold (a NaN in `data` is refused as
     in a file). Raises ScenarioError."""
