@@ -84,8 +84,12 @@ def code_fingerprint() -> str:
 # ---------------------------------------------------------------------------------------------
 # Diagnostics as JSON
 
+# An entry as the cache stores it: a JSON value (a diagnostic is a list of texts, numbers,
+# booleans, None and lists of them: `dump_diagnostic`), checked by whoever reads it back.
+JSONValue = Any
 
-def dump_diagnostic(d: Diagnostic) -> list[Any]:
+
+def dump_diagnostic(d: Diagnostic) -> list[JSONValue]:
     return [
         d.code, d.severity.value, d.message, d.span.start, d.span.end,
         [[label.span.start, label.span.end, label.message] for label in d.labels],
@@ -96,7 +100,7 @@ def dump_diagnostic(d: Diagnostic) -> list[Any]:
     ]
 
 
-def load_diagnostic(row: list[Any]) -> Diagnostic:
+def load_diagnostic(row: list[JSONValue]) -> Diagnostic:
     code, severity, message, start, end, labels, notes, help_, fix, path = row
     return Diagnostic(
         code=code,
@@ -127,7 +131,7 @@ class Cache:
     def _path(self, kind: str, key: str) -> str:
         return os.path.join(self.base, kind, key[:2], key + ".json")
 
-    def get(self, kind: str, key: str) -> Any | None:
+    def get(self, kind: str, key: str) -> JSONValue | None:
         """The entry `key` of `kind` ("results", "config"), or None."""
         try:
             with open(self._path(kind, key), "rb") as f:
@@ -135,7 +139,7 @@ class Cache:
         except (OSError, ValueError):
             return None
 
-    def put(self, kind: str, key: str, value: Any) -> None:
+    def put(self, kind: str, key: str, value: JSONValue) -> None:
         """Store an entry; a cache that cannot be written is silently not used."""
         path = self._path(kind, key)
         folder = os.path.dirname(path)

@@ -20,19 +20,25 @@ from __future__ import annotations
 
 import os
 from collections.abc import Callable
-from typing import Any
+from typing import TYPE_CHECKING
 
 from scriptc.encoding import without_bom
 from scriptc.paths import repository_root, shown_path
 from scriptc.source import SourceKind
 
+if TYPE_CHECKING:  # pathspec and the configuration are imported when they are needed
+    from pathspec import GitIgnoreSpec
+
+    from scriptc.project.config.load import Resolver
+    from scriptc.project.config.settings import Settings
+
 SCRIPT_SUFFIX = ".script"
 
 # A compiled .gitignore: (absolute folder with a trailing separator, GitIgnoreSpec).
-_Spec = tuple[str, Any]
+_Spec = tuple[str, "GitIgnoreSpec"]
 
 
-def _compile(lines: list[str]) -> Any | None:
+def _compile(lines: list[str]) -> GitIgnoreSpec | None:
     import pathspec
 
     lines = [line for line in lines if line.strip() and not line.lstrip().startswith("#")]
@@ -44,7 +50,7 @@ def _compile(lines: list[str]) -> Any | None:
         return None
 
 
-def _read_ignore_file(path: str) -> Any | None:
+def _read_ignore_file(path: str) -> GitIgnoreSpec | None:
     try:
         with open(path, encoding="utf-8", errors="replace") as f:
             return _compile(f.read().splitlines())
@@ -85,16 +91,16 @@ class Walker:
     DIR` keeps the JSON files that are scripts). A folder that cannot be read is never skipped
     silently: `problems` names it, and the walk goes on."""
 
-    def __init__(self, settings_for: Callable[[str], Any] | None = None,
+    def __init__(self, settings_for: Callable[[str], Settings] | None = None,
                  suffix: str = SCRIPT_SUFFIX, accept: Callable[[str], bool] | None = None
                  ) -> None:
         self.settings_for = settings_for
         self.suffix = suffix
         self.accept = accept
         self.problems: list[str] = []
-        self._excludes: dict[int, tuple[str, Any] | None] = {}
+        self._excludes: dict[int, _Spec | None] = {}
 
-    def _exclude(self, settings: Any) -> tuple[str, Any] | None:
+    def _exclude(self, settings: Settings) -> _Spec | None:
         key = id(settings)
         if key not in self._excludes:
             spec = _compile(list(settings.exclude)) if settings.exclude else None
@@ -102,7 +108,7 @@ class Walker:
             self._excludes[key] = (root, spec) if spec is not None else None
         return self._excludes[key]
 
-    def excluded(self, path: str, is_dir: bool, settings: Any | None = None) -> bool:
+    def excluded(self, path: str, is_dir: bool, settings: Settings | None = None) -> bool:
         """Whether the configuration excludes `path` (absolute)."""
         if settings is None:
             if self.settings_for is None:
@@ -183,7 +189,8 @@ class Walker:
 
 
 def discover(paths: list[str] | tuple[str, ...], kind: SourceKind = SourceKind.SCRIPT, *,
-             resolver: Any = None, force_exclude: bool = False) -> tuple[list[str], list[str]]:
+             resolver: Resolver | None = None, force_exclude: bool = False
+             ) -> tuple[list[str], list[str]]:
     """The files `scriptc lint PATH...`, `scriptc check PATH...` and `scriptc fmt PATH...`
     read, in order, and the problems met finding them. A file named on the command line is
     read whatever its suffix; a folder contributes its `*.script` files (for thesis JSON:

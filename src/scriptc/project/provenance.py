@@ -20,8 +20,11 @@ import json
 import re
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING
 from urllib.parse import urlsplit
+
+if TYPE_CHECKING:  # importlib.metadata is imported when the installation is read
+    from importlib.metadata import Distribution
 
 __all__ = ["PLACEHOLDER", "Provenance", "extra_install_command", "provenance"]
 
@@ -54,7 +57,7 @@ _EXTRA_REQUIREMENT = re.compile(
     r"""^(?P<requirement>[^;]+);\s*extra\s*==\s*(?P<q>["'])(?P<extra>[^"']+)(?P=q)\s*$""")
 
 
-def _installed(distribution: Any) -> Any:
+def _installed(distribution: Distribution | None) -> Distribution | None:
     """The given distribution, else the installed scriptc's, else None."""
     if distribution is not None:
         return distribution
@@ -66,7 +69,8 @@ def _installed(distribution: Any) -> Any:
         return None
 
 
-def extra_install_command(extra: str, fallback: Sequence[str], distribution: Any = None) -> str:
+def extra_install_command(extra: str, fallback: Sequence[str],
+                          distribution: Distribution | None = None) -> str:
     """The command that installs what an extra of scriptc needs (`plot`: matplotlib) into the
     environment scriptc runs in: `/path/to/python -m pip install 'matplotlib>=3.7'`. The
     requirements are the extra's own, as the installed scriptc declares them; `fallback` when
@@ -84,7 +88,7 @@ def extra_install_command(extra: str, fallback: Sequence[str], distribution: Any
                      *(shlex.quote(r) for r in (wanted or fallback))])
 
 
-def provenance(distribution: Any = None) -> Provenance:
+def provenance(distribution: Distribution | None = None) -> Provenance:
     """The provenance of `distribution` (an `importlib.metadata.Distribution`; default: the
     installed scriptc). Never raises: a missing or unreadable record means "cannot tell"."""
     distribution = _installed(distribution)

@@ -13,7 +13,6 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, fields, replace
-from typing import Any
 
 from scriptc.robot.limits import BY_FIELD, BY_KEY
 
@@ -33,7 +32,7 @@ class Profile:
     max_volume: float = _DEFAULT["max_volume"]  # a fraction of full volume (the governor)
     source: str = "defaults"  # where the values came from (a configuration file's path)
 
-    def as_dict(self) -> dict[str, Any]:
+    def as_dict(self) -> dict[str, float | str]:
         return {f.name: getattr(self, f.name) for f in fields(self)}
 
     def limits(self) -> dict[str, float]:

@@ -8,13 +8,12 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass, field
-from typing import Any
 
 from scriptc.diagnostics.model import Diagnostic, Severity
 from scriptc.paths import shown_path
 from scriptc.project.config.load import Resolver, project_root
 from scriptc.project.config.settings import Settings
-from scriptc.project.config.tomlpos import KeySpans
+from scriptc.project.config.tomlpos import KeySpans, TOMLValue
 from scriptc.robot.limits import LIMITS
 from scriptc.source import SourceFile
 
@@ -38,7 +37,7 @@ class Setting:
     value left (some of) it at the default."""
 
     key: str
-    value: Any
+    value: TOMLValue  # as the configuration writes it (a list, a table, ...)
     origin: Origin | None = None
     rejected: bool = False
 
@@ -58,10 +57,10 @@ class SettingsReport:
     source: SourceFile | None = None  # the configuration, for showing its problems
 
 
-def _values(settings: Settings) -> list[tuple[tuple[str, ...], Any]]:
+def _values(settings: Settings) -> list[tuple[tuple[str, ...], TOMLValue]]:
     """(key path, value in force) of every setting, in the order docs/configuration.md has."""
     limits = settings.robot.limits()
-    rows: list[tuple[tuple[str, ...], Any]] = [
+    rows: list[tuple[tuple[str, ...], TOMLValue]] = [
         (("audio-root",), settings.audio_root),
         (("exclude",), list(settings.exclude)),
         (("respect-gitignore",), settings.respect_gitignore),

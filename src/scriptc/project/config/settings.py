@@ -14,11 +14,14 @@ from __future__ import annotations
 import os
 from collections.abc import Iterable, Sequence
 from functools import cached_property
-from typing import Any, NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 from scriptc.diagnostics.model import Diagnostic, Severity
 from scriptc.ir.builtins import Function, Param
 from scriptc.robot.profile import DEFAULT_PROFILE, Profile
+
+if TYPE_CHECKING:  # pathspec is imported for per-file ignores only
+    from pathspec import GitIgnoreSpec
 
 ALL = "ALL"
 SEVERITIES = {"error": Severity.ERROR, "warning": Severity.WARNING, "info": Severity.INFO}
@@ -116,7 +119,12 @@ class ImplementationError(Exception):
     """A declared implementation (`module:attr`) that cannot be imported."""
 
 
-def import_implementation(spec: str, root: str) -> Any:
+# What a repository's own Python code gives for a `module:attr` implementation (a function of
+# the rule grammar, a rule): the runtime calls it as its kind says; nothing here can know more.
+UserObject = Any
+
+
+def import_implementation(spec: str, root: str) -> UserObject:
     """The object a `module:attr` implementation names, imported with `root` (the folder of
     the configuration) first on the import path. Raises ImplementationError."""
     import importlib
@@ -160,7 +168,7 @@ class UserFunction(NamedTuple):
                         self.doc or f"declared in the configuration ({self.implementation})",
                         origin="config")
 
-    def load(self) -> Any:
+    def load(self) -> UserObject:
         """Import the implementation (only when asked: linting never does)."""
         return import_implementation(self.implementation, self.root)
 
@@ -175,7 +183,7 @@ class UserRule(NamedTuple):
     doc: str = ""
     root: str = "."
 
-    def load(self) -> Any:
+    def load(self) -> UserObject:
         return import_implementation(self.implementation, self.root)
 
 
@@ -228,7 +236,7 @@ class Settings:
         values["selection"] = selection
         return Settings(**values)
 
-    def _values(self) -> tuple[Any, ...]:
+    def _values(self) -> tuple[object, ...]:
         return tuple(getattr(self, name) for name in self.FIELDS)
 
     def __eq__(self, other: object) -> bool:
@@ -282,10 +290,10 @@ class Settings:
         return {c.code: (table[c.code][0], table[c.code][1] or c.severity) for c in lint_codes()}
 
     @cached_property
-    def _per_file(self) -> list[tuple[Any, tuple[str, ...]]]:
+    def _per_file(self) -> list[tuple[GitIgnoreSpec, tuple[str, ...]]]:
         import pathspec
 
-        out = []
+        out: list[tuple[GitIgnoreSpec, tuple[str, ...]]] = []
         for pattern, selectors in self.per_file_ignores:
             try:
                 spec = pathspec.GitIgnoreSpec.from_lines([pattern])

@@ -14,10 +14,15 @@ it keeps what it found so far.
 from __future__ import annotations
 
 import re
+from typing import Any
 
 from scriptc.source import Span
 
 KeyPath = tuple[str | int, ...]
+# A value of a TOML document as `tomllib` parses it (a table, an array, a string, a number, a
+# boolean or a date): untyped until the configuration's schema and checks have looked at it.
+TOMLValue = Any
+TOMLTable = dict[str, TOMLValue]
 
 _BARE_KEY = re.compile(r"[A-Za-z0-9_-]+")
 _WS = re.compile(r"[ \t]*")
@@ -82,7 +87,9 @@ class _Scanner:
     # -- lexical helpers ----------------------------------------------------------------------
 
     def ws(self) -> None:
-        self.pos = _WS.match(self.text, self.pos).end()
+        blanks = _WS.match(self.text, self.pos)
+        assert blanks is not None  # `[ \t]*` matches at any position
+        self.pos = blanks.end()
 
     def ws_comments_newlines(self) -> None:
         text, n = self.text, len(self.text)
