@@ -10,8 +10,8 @@ Three stages, each reporting in its own code:
    `goal0/act0/blk1/move/0/wait_t`);
 3. the IR is built with spans pointing into the JSON text. Numbers go through `read_number`
    like the script syntax's; `toparse` strings are parsed by the rule grammar
-   (`scriptc.frontend.script.parse_condition`), with positions mapped back through JSON escapes; jump
-   paths that name no block are J003.
+   (`scriptc.frontend.script.parse_condition`), with positions mapped back through JSON
+   escapes; jump paths that name no block are J003.
 
 The JSON has no labels: jumps name paths. The reader invents a label for every block some jump
 targets, named after its path (`goal0/act0/blk4` -> `g0_a0_b4`), so the IR (and the script
@@ -33,10 +33,20 @@ from __future__ import annotations
 import dataclasses
 import json
 import re
+from collections.abc import Iterable, Mapping, Sequence
 from functools import cache
+from typing import TYPE_CHECKING
 
-from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit
 from scriptc.diagnostics.codes import diagnostic
+from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit
+from scriptc.frontend.jsonpos import (
+    JsonError,
+    JsonNode,
+    JSONValue,
+    Member,
+    parse_json,
+    string_offsets,
+)
 from scriptc.gcpause import gc_paused
 from scriptc.ir import nodes as ir
 from scriptc.ir.fields import read_number
@@ -44,9 +54,12 @@ from scriptc.ir.shift import map_spans, shift
 from scriptc.language import MUTEXES, RULE_ACTIONS, name_problem, to_name
 from scriptc.numbers import MAX_DIGITS, whole_number
 from scriptc.source import SourceFile, Span
-from scriptc.frontend.jsonpos import JsonError, JsonNode, Member, parse_json, string_offsets
 
-__all__ = ["script_from_json", "invented_label"]
+if TYPE_CHECKING:  # (imported where it runs: only for a document that is not valid)
+    from jsonschema import Draft202012Validator
+    from jsonschema.exceptions import ValidationError
+
+__all__ = ["invented_label", "script_from_json"]
 
 SCHEMA_NAME = "thesis-script.schema.json"
 _SCHEMA_DEPTH = 10
@@ -102,8 +115,8 @@ def _read(source: SourceFile) -> tuple[ir.Script | None, list[Diagnostic]]:
 
 
 def _dedupe(diagnostics: list[Diagnostic]) -> list[Diagnostic]:
-    seen = set()
-    out = []
+    seen: set[tuple[Span, str]] = set()
+    out: list[Diagnostic] = []
     for d in diagnostics:
         key = (d.span, d.message)
         if key not in seen:
@@ -118,14 +131,15 @@ def _dedupe(diagnostics: list[Diagnostic]) -> list[Diagnostic]:
 
 
 @cache
-def _schema() -> dict:
+def _schema() -> dict[str, JSONValue]:
     from scriptc.resources import schema_path
 
-    return json.loads(schema_path(SCHEMA_NAME).read_text(encoding="utf-8"))
+    schema: dict[str, JSONValue] = json.loads(schema_path(SCHEMA_NAME).read_text(encoding="utf-8"))
+    return schema
 
 
 @cache
-def _validator():
+def _validator() -> Draft202012Validator:
     import jsonschema
 
     return jsonschema.Draft202012Validator(_schema())
@@ -139,13 +153,13 @@ def _is_valid(instance: object) -> bool:
     from scriptc.frontend.thesis_validator import JsonSchemaValueException, validate
 
     try:
-        validate(instance)
+        validate(instance)  # type: ignore[no-untyped-call]  # fastjsonschema's code: no types
     except JsonSchemaValueException:
         return False
     return True
 
 
-def _join(steps) -> str:
+def _join(steps: Iterable[str | int]) -> str:
     return "/".join(str(s) for s in steps)
 
 
@@ -192,7 +206,7 @@ _SHAPE_HELP = {
 }
 
 
-def _shape_of(steps, instance) -> str:
+def _shape_of(steps: Sequence[str | int], instance: JSONValue) -> str:
     """Which kind of object the path `steps` names (a key of `_SHAPE_HELP`)."""
     if not steps:
         return ""
@@ -210,7 +224,9 @@ def _shape_of(steps, instance) -> str:
             return "act"
         if _INDEXED["blk"].fullmatch(last) and len(steps) == 3:
             kind = instance.get("type") if isinstance(instance, dict) else None
-            return kind if kind in ("instruction", "jump", "terminus", "sensor") else "block"
+            if isinstance(kind, str) and kind in ("instruction", "jump", "terminus", "sensor"):
+                return kind
+            return "block"
     return ""
 
 
@@ -219,7 +235,8 @@ _INTEGER_KEYS = {"wait_t", "duration", "turnas", "rulecode"}
 _NAME_KEYS = {"activityname", "goalid", "id"}
 
 
-def _type_help(steps, node: JsonNode, expected: str, source: str) -> str | None:
+def _type_help(steps: Sequence[str | int], node: JsonNode, expected: str,
+               source: str) -> str | None:
     last = steps[-1] if steps else None
     if last in _NUMBER_TEXT_KEYS and node.kind == "number":
         return (f"the thesis JSON writes speeds and colour channels as strings: "
@@ -246,28 +263,34 @@ def _schema_problems(root: JsonNode, source_text: str) -> list[Diagnostic]:
         return []
     out: list[Diagnostic] = []
     done_required: set[str] = set()
+    error: ValidationError  # (jsonschema's stubs leave iter_errors' items untyped)
     for error in _validator().iter_errors(instance):
         steps = list(error.absolute_path)
         path = _join(steps)
         node, member = root.locate(steps)
         validator = error.validator
+        # The failing keyword's value in the schema, and the value it failed on.
+        keyword_value: JSONValue = error.validator_value
+        failed: JSONValue = error.instance
         if validator == "required":
             if path in done_required:
                 continue
             done_required.add(path)
-            missing = [k for k in error.validator_value if k not in error.instance]
+            missing = [k for k in keyword_value if k not in failed]
             span = member.key_span if member is not None else Span(node.start, node.start + 1)
-            shape = _shape_of(steps, error.instance)
+            shape = _shape_of(steps, failed)
             for key in missing:
                 out.append(diagnostic(
                     "J002",
                     f"{_where(path) if path else 'the top-level object'} has no key `{key}`",
-                    span, help=_SHAPE_HELP.get(shape), path=_join(steps + [key]) or None))
+                    span, help=_SHAPE_HELP.get(shape), path=_join([*steps, key]) or None))
         elif validator == "additionalProperties":
             schema = error.schema
+            if not isinstance(schema, Mapping):  # (a keyword's error: its schema object)
+                schema = {}
             known = set(schema.get("properties", {}))
             patterns = [re.compile(p) for p in schema.get("patternProperties", {})]
-            shape = _shape_of(steps, error.instance)
+            shape = _shape_of(steps, failed)
             for m in node.members:
                 if m.key in known or any(p.search(m.key) for p in patterns):
                     continue
@@ -276,19 +299,21 @@ def _schema_problems(root: JsonNode, source_text: str) -> list[Diagnostic]:
                     f"{_where(path) if path else 'the top-level object'} has an unknown key "
                     f"`{m.key}`",
                     m.key_span, help=_misnumbered_help(m.key) or _SHAPE_HELP.get(shape),
-                    path=_join(steps + [m.key])))
+                    path=_join([*steps, m.key])))
         elif validator == "type":
-            expected = error.validator_value
-            expected = expected if isinstance(expected, str) else expected[0]
+            expected: str = (keyword_value if isinstance(keyword_value, str)
+                             else keyword_value[0])
             out.append(diagnostic(
                 "J002",
                 f"{_where(path)} must be {_KIND_PHRASE.get(expected, expected)}, found "
                 f"{_shown_value(node, source_text)}",
-                node.span, help=_type_help(steps, node, expected, source_text), path=path or None))
+                node.span, help=_type_help(steps, node, expected, source_text),
+                path=path or None))
         elif validator == "pattern":
             out.append(_pattern_problem(steps, path, node, source_text))
         elif validator in ("enum", "const"):
-            out.append(_enum_problem(steps, path, node, error, source_text))
+            out.append(_enum_problem(steps, path, node, validator == "enum", keyword_value,
+                                     source_text))
         else:  # not produced by the shipped schema; kept readable for a changed schema
             out.append(diagnostic("J002", f"{_where(path)}: {error.message}", node.span,
                                   path=path or None))
@@ -302,7 +327,8 @@ def _misnumbered_help(key: str) -> str | None:
     return None
 
 
-def _pattern_problem(steps, path: str, node: JsonNode, source: str) -> Diagnostic:
+def _pattern_problem(steps: Sequence[str | int], path: str, node: JsonNode,
+                     source: str) -> Diagnostic:
     last = steps[-1] if steps else None
     shown = _shown_value(node, source)
     if last in _NAME_KEYS:
@@ -312,17 +338,22 @@ def _pattern_problem(steps, path: str, node: JsonNode, source: str) -> Diagnosti
     elif last in _NUMBER_TEXT_KEYS:
         message = f"{_where(path)} must hold a decimal number, found {shown}"
         help_ = "write the number as text, such as `\"10\"` or `\"-0.5\"`"
-    elif last == "track_path" and isinstance(node.value, str) and not re.search(r"[\n\r]", node.value):
+    elif (last == "track_path" and isinstance(node.value, str)
+          and not re.search(r"[\n\r]", node.value)):
         end = "starts" if node.value[:1].isspace() else "ends"
         message = f"{_where(path)} {end} with a blank: {shown}"
-        help_ = "the script syntax trims audio paths, so it cannot write this one: remove the blank"
+        help_ = ("the script syntax trims audio paths, so it cannot write this one: remove the "
+                 "blank")
     else:
         message = f"{_where(path)} holds a line break"
         help_ = "the script syntax cannot write a line break inside a string: remove it"
     return diagnostic("J002", message, node.span, help=help_, path=path or None)
 
 
-def _enum_problem(steps, path: str, node: JsonNode, error, source: str) -> Diagnostic:
+def _enum_problem(steps: Sequence[str | int], path: str, node: JsonNode, is_enum: bool,
+                  allowed_value: JSONValue, source: str) -> Diagnostic:
+    """`node` is none of the values an `enum` (`is_enum`, `allowed_value` a list) or `const`
+    (`allowed_value` the one value) allows."""
     last = steps[-1] if steps else None
     shown = _shown_value(node, source)
     if last == "action":
@@ -344,7 +375,7 @@ def _enum_problem(steps, path: str, node: JsonNode, error, source: str) -> Diagn
         return diagnostic("J002", f"{_where(path)} must be `\"flag\"`, found {shown}", node.span,
                           help="the thesis writes `\"flagged\":\"flag\"` in every instruction "
                           "block", path=path)
-    allowed = error.validator_value if error.validator == "enum" else [error.validator_value]
+    allowed = allowed_value if is_enum else [allowed_value]
     listed = ", ".join(f"`{json.dumps(v)}`" for v in allowed)
     return diagnostic("J002", f"{_where(path)} must be one of {listed}, found {shown}",
                       node.span, path=path or None)
@@ -359,7 +390,7 @@ def _numbering_problems(root: JsonNode) -> list[Diagnostic]:
     work: list[tuple[JsonNode, str, str]] = [(root, "goal", "")]
     while work:
         node, prefix, path = work.pop()
-        indexed = []
+        indexed: list[tuple[int, Member]] = []
         for m in node.members:
             if _INDEXED[prefix].fullmatch(m.key):
                 indexed.append((_index(m.key[len(prefix):]), m))
@@ -388,7 +419,12 @@ def _numbering_problems(root: JsonNode) -> list[Diagnostic]:
 # The IR
 
 
-def _parse_condition(text: str, base: int):
+# A condition as `parse_condition` gives it: the condition (None when it does not parse) and
+# the diagnostics.
+_Parsed = tuple[ir.Condition | None, list[Diagnostic]]
+
+
+def _parse_condition(text: str, base: int) -> _Parsed:
     from scriptc.frontend.script import parse_condition
 
     return parse_condition(text, base)
@@ -399,9 +435,9 @@ class _ConditionCache:
     text is parsed once, at offset 0, and moved to where it stands."""
 
     def __init__(self) -> None:
-        self._parsed: dict[str, tuple] = {}
+        self._parsed: dict[str, _Parsed] = {}
 
-    def parse(self, text: str, base: int):
+    def parse(self, text: str, base: int) -> _Parsed:
         parsed = self._parsed.get(text)
         if parsed is None:
             parsed = self._parsed[text] = _parse_condition(text, 0)
@@ -409,6 +445,30 @@ class _ConditionCache:
             return parsed
         condition, problems = parsed
         return shift(condition, base), [shift(d, base) for d in problems]
+
+
+# The reader reads a document the schema has checked: what it requires is there, of its kind.
+
+
+def _required(node: JsonNode, key: str) -> JsonNode:
+    """The value of `key` in an object of the checked document."""
+    value = node.get(key)
+    assert value is not None, key
+    return value
+
+
+def _string(node: JsonNode) -> str:
+    """The value of a string of the checked document."""
+    value = node.value
+    assert isinstance(value, str), node
+    return value
+
+
+def _integer(node: JsonNode) -> int:
+    """The value of an integer of the checked document."""
+    value = node.value
+    assert isinstance(value, int), node
+    return value
 
 
 def _json_escape_edit(edit: TextEdit) -> TextEdit:
@@ -428,13 +488,13 @@ class _Reader:
     # -- leaves -----------------------------------------------------------------------------
 
     def name(self, node: JsonNode) -> ir.Name:
-        return ir.Name(node.value, node.content_span)  # type: ignore[arg-type]
+        return ir.Name(_string(node), node.content_span)
 
     def text(self, node: JsonNode) -> ir.Text:
-        return ir.Text(node.value, node.span)  # type: ignore[arg-type]
+        return ir.Text(_string(node), node.span)
 
     def number_text(self, node: JsonNode, what: str) -> ir.Number:
-        number, problem = read_number(node.value, node.content_span, what)  # type: ignore[arg-type]
+        number, problem = read_number(_string(node), node.content_span, what)
         if problem is not None:
             self.diagnostics.append(problem)
         return number
@@ -450,7 +510,8 @@ class _Reader:
     @staticmethod
     def indexed(node: JsonNode, prefix: str) -> list[Member]:
         pattern = _INDEXED[prefix]
-        found = [(_index(m.key[len(prefix):]), m) for m in node.members if pattern.fullmatch(m.key)]
+        found = [(_index(m.key[len(prefix):]), m) for m in node.members
+                 if pattern.fullmatch(m.key)]
         found.sort(key=lambda pair: pair[0])
         return [m for _, m in found]
 
@@ -462,26 +523,29 @@ class _Reader:
             for a, am in enumerate(self.indexed(gm.value, "act")):
                 for b, _bm in enumerate(self.indexed(am.value, "blk")):
                     self.addresses[f"goal{g}/act{a}/blk{b}"] = (g, a, b)
-        for g, gm in enumerate(goals_json):
-            for a, am in enumerate(self.indexed(gm.value, "act")):
+        for gm in goals_json:
+            for am in self.indexed(gm.value, "act"):
                 for bm in self.indexed(am.value, "blk"):
-                    if bm.value.get("type").value == "jump":  # type: ignore[union-attr]
+                    if _required(bm.value, "type").value == "jump":
                         for key in ("truejump", "falsejump"):
-                            address = self.addresses.get(bm.value.get(key).value)  # type: ignore
+                            address = self.addresses.get(_string(_required(bm.value, key)))
                             if address is not None:
                                 self.targets.add(address)
 
-        alfa = tuple(self.rule_message(n, "alfa") for n in root.get("alfarulemessages").items)
-        omega = tuple(self.rule_message(n, "omega") for n in root.get("omegarulemessages").items)
-        goals = []
+        alfa = tuple(self.rule_message(n, "alfa")
+                     for n in _required(root, "alfarulemessages").items)
+        omega = tuple(self.rule_message(n, "omega")
+                      for n in _required(root, "omegarulemessages").items)
+        goals: list[ir.Goal] = []
         for g, gm in enumerate(goals_json):
-            actions = []
+            actions: list[ir.Action] = []
             for a, am in enumerate(self.indexed(gm.value, "act")):
                 blocks = tuple(self.block((g, a, b), bm)
                                for b, bm in enumerate(self.indexed(am.value, "blk")))
                 actions.append(ir.Action(blocks, am.key_span))
-            goals.append(ir.Goal(self.name(gm.value.get("goalid")), tuple(actions), gm.key_span))
-        activity = self.name(root.get("activityname"))
+            goals.append(ir.Goal(self.name(_required(gm.value, "goalid")), tuple(actions),
+                                 gm.key_span))
+        activity = self.name(_required(root, "activityname"))
         self.activity_name(activity)
         script = ir.Script(activity, alfa, omega, tuple(goals), root.span)
         self.diagnostics.sort(key=Diagnostic.sort_key)
@@ -498,16 +562,16 @@ class _Reader:
                 path="activityname"))
 
     def rule_message(self, node: JsonNode, kind: str) -> ir.RuleMessage:
-        action = node.get("action")
-        mutex = node.get("mutexcmd")
+        action = _required(node, "action")
+        mutex = _required(node, "mutexcmd")
         return ir.RuleMessage(
             kind=kind,
-            rulecode=self.integer(node.get("rulecode"), "the rulecode"),
-            id=self.name(node.get("id")),
-            intopic=self.text(node.get("intopic")),
-            outtopic=self.text(node.get("outtopic")),
-            action=ir.Name(_ACTION_LETTERS[action.value], action.span),
-            mutex=ir.Name(_MUTEX_LETTERS[mutex.value], mutex.span),
+            rulecode=self.integer(_required(node, "rulecode"), "the rulecode"),
+            id=self.name(_required(node, "id")),
+            intopic=self.text(_required(node, "intopic")),
+            outtopic=self.text(_required(node, "outtopic")),
+            action=ir.Name(_ACTION_LETTERS[_integer(action)], action.span),
+            mutex=ir.Name(_MUTEX_LETTERS[_integer(mutex)], mutex.span),
             span=node.span,
         )
 
@@ -516,65 +580,66 @@ class _Reader:
         span = Span(member.key_start, node.end)
         label = (ir.Name(invented_label(address), member.key_span)
                  if address in self.targets else None)
-        kind = node.get("type").value
+        kind = _required(node, "type").value
         if kind == "instruction":
             return ir.InstructionBlock(
                 label,
-                tuple(self.move(n) for n in node.get("move").items),
-                tuple(self.led(n) for n in node.get("led").items),
-                tuple(self.audio(n) for n in node.get("audioout").items),
+                tuple(self.move(n) for n in _required(node, "move").items),
+                tuple(self.led(n) for n in _required(node, "led").items),
+                tuple(self.audio(n) for n in _required(node, "audioout").items),
                 span,
             )
         if kind == "jump":
-            toparse = node.get("toparse")
+            toparse = _required(node, "toparse")
             return ir.JumpBlock(
                 label=label,
                 condition=self.condition(toparse),
-                true_target=self.target(node.get("truejump"), address, "truejump"),
-                false_target=self.target(node.get("falsejump"), address, "falsejump"),
+                true_target=self.target(_required(node, "truejump"), address, "truejump"),
+                false_target=self.target(_required(node, "falsejump"), address, "falsejump"),
                 span=span,
-                condition_text=toparse.value,
+                condition_text=_string(toparse),
             )
         if kind == "terminus":
             return ir.TerminusBlock(label, span)
-        return ir.SensorBlock(label, tuple(self.text(n) for n in node.get("payload").items), span)
+        return ir.SensorBlock(label, tuple(self.text(n) for n in _required(node, "payload").items),
+                              span)
 
     # -- commands ---------------------------------------------------------------------------
 
     def move(self, node: JsonNode) -> ir.MoveCommand:
         return ir.MoveCommand(
-            self.number_text(node.get("v_x"), "`v_x`"),
-            self.number_text(node.get("v_y"), "`v_y`"),
-            self.number_text(node.get("v_theta"), "`v_theta`"),
-            self.integer(node.get("wait_t"), "`wait_t`"),
-            self.integer(node.get("duration"), "`duration`"),
+            self.number_text(_required(node, "v_x"), "`v_x`"),
+            self.number_text(_required(node, "v_y"), "`v_y`"),
+            self.number_text(_required(node, "v_theta"), "`v_theta`"),
+            self.integer(_required(node, "wait_t"), "`wait_t`"),
+            self.integer(_required(node, "duration"), "`duration`"),
             node.span,
         )
 
     def led(self, node: JsonNode) -> ir.LedCommand:
         return ir.LedCommand(
-            self.number_text(node.get("r"), "`r`"),
-            self.number_text(node.get("g"), "`g`"),
-            self.number_text(node.get("b"), "`b`"),
-            self.integer(node.get("turnas"), "`turnas`"),
-            self.integer(node.get("wait_t"), "`wait_t`"),
-            self.integer(node.get("duration"), "`duration`"),
+            self.number_text(_required(node, "r"), "`r`"),
+            self.number_text(_required(node, "g"), "`g`"),
+            self.number_text(_required(node, "b"), "`b`"),
+            self.integer(_required(node, "turnas"), "`turnas`"),
+            self.integer(_required(node, "wait_t"), "`wait_t`"),
+            self.integer(_required(node, "duration"), "`duration`"),
             node.span,
         )
 
     def audio(self, node: JsonNode) -> ir.AudioCommand:
-        path = node.get("track_path")
+        path = _required(node, "track_path")
         return ir.AudioCommand(
-            ir.Text(path.value, path.content_span),
-            self.integer(node.get("wait_t"), "`wait_t`"),
-            self.integer(node.get("duration"), "`duration`"),
+            ir.Text(_string(path), path.content_span),
+            self.integer(_required(node, "wait_t"), "`wait_t`"),
+            self.integer(_required(node, "duration"), "`duration`"),
             node.span,
         )
 
     # -- jumps ------------------------------------------------------------------------------
 
     def condition(self, node: JsonNode) -> ir.Condition:
-        text: str = node.value  # type: ignore[assignment]
+        text = _string(node)
         base = node.start + 1
         if self.source.text[base:node.end - 1] == text:
             condition, problems = self.conditions.parse(text, base)
@@ -590,8 +655,8 @@ class _Reader:
             condition, problems = self.conditions.parse(text, 0)
             condition = map_spans(condition, remap)
             mapped = []
-            for d in problems:
-                d = map_spans(d, remap)
+            for problem in problems:
+                d = map_spans(problem, remap)
                 if d.fix is not None:
                     d = dataclasses.replace(d, fix=Fix(d.fix.message, tuple(
                         _json_escape_edit(e) for e in d.fix.edits), d.fix.safe))
@@ -604,7 +669,7 @@ class _Reader:
         return condition
 
     def target(self, node: JsonNode, address: tuple[int, int, int], key: str) -> ir.Name | None:
-        path: str = node.value  # type: ignore[assignment]
+        path = _string(node)
         if path == "":
             return None
         span = node.content_span
@@ -625,7 +690,7 @@ class _Reader:
         self.diagnostics.append(diagnostic("J003", message, span, help=help_, path=where))
         return ir.Name(name, span)
 
-    def _path_help(self, m: re.Match) -> str:
+    def _path_help(self, m: re.Match[str]) -> str:
         g, a = _index(m.group(1)), _index(m.group(2))
         blocks = sorted(b for (gg, aa, b) in self.addresses.values() if gg == g and aa == a)
         if blocks:
