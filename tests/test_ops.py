@@ -204,6 +204,8 @@ def test_load_programs_refuses_what_cannot_run(here: Path) -> None:
                  "sub/scriptc.toml": BROKEN_CONFIG, "sub/a.script": CLEAN})
     loaded = programs.load_programs(["broken.script"])
     assert not loaded.ok and loaded.programs == [None] and loaded.analyses[0].errors
+    with pytest.raises(ValueError, match="gave no program"):
+        loaded.runnable()
     with pytest.raises(programs.Refused, match=r"bad\.scb"):
         programs.load_programs(["bad.scb"])
     with pytest.raises(ReadError, match="does not exist"):
@@ -223,7 +225,8 @@ def test_a_compiled_program_and_its_source_run_alike(here: Path, executor: str) 
     loaded = programs.load_programs(["a.script", "a.scb"], executor)
     assert loaded.ok and loaded.analyses and len(loaded.programs) == 2
     assert loaded.setup.settings.path is None
-    result = Session(loaded.programs, robot="kinematic").run(10_000)
+    assert loaded.runnable() == loaded.programs
+    result = Session(loaded.runnable(), robot="kinematic").run(10_000)
     assert result.outcome == "completed"
 
 

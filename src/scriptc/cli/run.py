@@ -149,7 +149,7 @@ def command(ctx: click.Context, files: tuple[str, ...], world: str | None, until
         from scriptc.runtime.plot import PathRecorder
 
         robot_backend = recorder = PathRecorder(robot_backend)
-    session = Session(loaded.programs, scenario=scenario, robot=robot_backend, trace=trace,
+    session = Session(loaded.runnable(), scenario=scenario, robot=robot_backend, trace=trace,
                       loader=programs.ProgramLoader(executor), profile=profile,
                       functions=functions, rules=rules)
     # Scripts may loop forever: without --until, a run stops after an hour of simulated time.

@@ -12,7 +12,7 @@ session meets by path while it runs (the runtime's `scriptc.runtime.loading.Load
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any
+from typing import TYPE_CHECKING
 
 from scriptc.analysis.analyze import Analysis
 from scriptc.analysis.read import ReadError, read_bytes
@@ -21,6 +21,9 @@ from scriptc.ops.build import read_configured
 from scriptc.project.setup import Setup, setup_for
 from scriptc.runtime.loading import LoadError
 from scriptc.source import SourceKind
+
+if TYPE_CHECKING:  # the executors are imported when a program is made
+    from scriptc.runtime.executor import Loadable
 
 __all__ = [
     "DEFAULT_LIMIT_MS",
@@ -64,7 +67,7 @@ def governed_by_default(robot: str) -> bool:
     return robot != "kinematic"
 
 
-def bytecode_program(path: str) -> Any:
+def bytecode_program(path: str) -> Loadable:
     """The runtime program of a `.scb` file: decoded and verified, then run by the VM. Raises
     ReadError (the file cannot be read) or Refused (it is not a valid program)."""
     data = read_bytes(path)
@@ -79,7 +82,7 @@ def bytecode_program(path: str) -> Any:
     return vm.program_from_bytecode(program, path)
 
 
-def checked_program(analysis: Analysis, path: str, executor: str = "vm") -> Any:
+def checked_program(analysis: Analysis, path: str, executor: str = "vm") -> Loadable:
     """The runtime program of a checked script: compiled to bytecode in memory, verified (as
     a `.scb` file is once decoded) and run by the VM; or, with the `ir`
     executor, read from the IR by the reference interpreter. Raises Refused when the script
@@ -114,7 +117,8 @@ class Loaded:
 
     __slots__ = ("analyses", "programs", "setup")
 
-    def __init__(self, analyses: list[Analysis], programs: list[Any], setup: Setup) -> None:
+    def __init__(self, analyses: list[Analysis], programs: list[Loadable | None],
+                 setup: Setup) -> None:
         self.analyses = analyses
         self.programs = programs
         self.setup = setup
@@ -123,6 +127,13 @@ class Loaded:
     def ok(self) -> bool:
         """Whether every file gave a program (no script has errors)."""
         return all(p is not None for p in self.programs)
+
+    def runnable(self) -> list[Loadable]:
+        """The programs, to run: only when every file gave one (`ok`), else ValueError."""
+        found = [p for p in self.programs if p is not None]
+        if len(found) != len(self.programs):
+            raise ValueError("a script has errors: it gave no program to run")
+        return found
 
 
 def load_programs(paths: list[str] | tuple[str, ...], executor: str = "vm", *,
@@ -133,7 +144,7 @@ def load_programs(paths: list[str] | tuple[str, ...], executor: str = "vm", *,
     be read ReadError, a `.scb` file that is not a valid program or a script that cannot be
     compiled Refused. A script with errors gives no program (None) and its analysis says why."""
     analyses: list[Analysis] = []
-    programs: list[Any] = []
+    programs: list[Loadable | None] = []
     setups: list[Setup | None] = []
     for path in paths:
         kind = SourceKind.of_path(path)
@@ -163,7 +174,7 @@ class ProgramLoader:
     def __init__(self, executor: str = "vm") -> None:
         self.executor = executor
 
-    def __call__(self, path: str) -> Any:
+    def __call__(self, path: str) -> Loadable:
         try:
             if SourceKind.of_path(path) is SourceKind.BYTECODE:
                 return bytecode_program(path)
