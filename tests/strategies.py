@@ -15,11 +15,13 @@ NAMES = st.from_regex(r"[a-z][a-z0-9_]{0,6}", fullmatch=True).filter(
 )
 NUMBERS = st.one_of(
     st.integers(0, 3000).map(str),
-    st.decimals(min_value=-2, max_value=2, places=2, allow_nan=False, allow_infinity=False).map(str),
+    st.decimals(min_value=-2, max_value=2, places=2, allow_nan=False,
+                allow_infinity=False).map(str),
 )
 UNIT = st.sampled_from(["0", "1", "0.5", "0.25", "1.0", ".5"])
 TIMES = st.integers(0, 5000).map(str)
-STRINGS = st.lists(st.sampled_from(list("abz09 _./-") + ["\\\\", '\\"', "é"]), max_size=12).map("".join)
+STRINGS = st.lists(st.sampled_from(list("abz09 _./-") + ["\\\\", '\\"', "é"]),
+                   max_size=12).map("".join)
 CLASSES = {
     "Human": ["id", "positionrho", "positiontheta", "permanencetime", "appearanceon"],
     "Obstacle": ["positionrho", "isfixed"],
@@ -88,7 +90,8 @@ def _commands(draw, kind: str) -> str:
         if kind == "MV":
             fields = [draw(NUMBERS), draw(NUMBERS), draw(NUMBERS), draw(TIMES), draw(TIMES)]
         elif kind == "LD":
-            fields = [draw(UNIT), draw(UNIT), draw(UNIT), draw(st.sampled_from("01")), draw(TIMES), draw(TIMES)]
+            fields = [draw(UNIT), draw(UNIT), draw(UNIT), draw(st.sampled_from("01")),
+                      draw(TIMES), draw(TIMES)]
         else:
             path = draw(st.sampled_from(["Silence", "songs/a.wav", "songs/b, c.wav", "x/y z.wav"]))
             fields = [path, draw(TIMES), draw(TIMES)]
@@ -106,7 +109,8 @@ def scripts(draw, max_blocks: int = 12):
     rules = draw(st.lists(NAMES, max_size=3, unique=True))
     for i, rule in enumerate(rules):
         mutex = "U" if i == len(rules) - 1 else "M"
-        lines.append(f'[alfa:{draw(st.integers(0, 2**32 - 1))}, {rule}, "{draw(STRINGS)}", "", A, {mutex}]')
+        rulecode = draw(st.integers(0, 2**32 - 1))
+        lines.append(f'[alfa:{rulecode}, {rule}, "{draw(STRINGS)}", "", A, {mutex}]')
     for i, rule in enumerate(rules):
         mutex = "L" if i == 0 else "M"
         lines.append(f'[omega:{draw(st.integers(0, 99))}, {rule}, "", "", R, {mutex}]')
@@ -126,7 +130,8 @@ def scripts(draw, max_blocks: int = 12):
                 label = labels[block] if labelled[block] else ""
                 kind = draw(st.sampled_from(["inst", "inst", "jump", "terminus", "sens"]))
                 if kind == "inst":
-                    body = f"blk_inst: {_commands(draw, 'MV')} {_commands(draw, 'LD')} {_commands(draw, 'AO')}"
+                    moves, leds = _commands(draw, "MV"), _commands(draw, "LD")
+                    body = f"blk_inst: {moves} {leds} {_commands(draw, 'AO')}"
                 elif kind == "jump":
                     t = draw(st.sampled_from([""] + targets))
                     f = draw(st.sampled_from([""] + targets))
@@ -135,7 +140,8 @@ def scripts(draw, max_blocks: int = 12):
                     body = "blk_terminus"
                 else:
                     payload = draw(st.lists(STRINGS, max_size=2))
-                    body = "blk_sens" + (": " + ", ".join(f'"{p}"' for p in payload) if payload else "")
+                    body = "blk_sens" + (": " + ", ".join(f'"{p}"' for p in payload)
+                                         if payload else "")
                 lines.append(f"    [b#{label}#{body}]")
                 block += 1
     return "\n".join(lines) + "\n"

@@ -54,7 +54,8 @@ def test_a_megabyte_of_blanks_in_an_audio_path_is_linear() -> None:
     """The audio command's pattern retried the blanks from each of them: quadratic, a 1 MB
     path of spaces never finished compiling (the fuzz campaign's `compile: hang`). Now about
     0.1 s for 200,000 blanks; quadratic took minutes."""
-    text = HEAD + '[b##blk_inst: MV() LD() AO("so' + " " * 200_000 + 'ng.wav, 0, 10")]\n[b##blk_terminus]\n'
+    text = (HEAD + '[b##blk_inst: MV() LD() AO("so' + " " * 200_000 + 'ng.wav, 0, 10")]\n'
+            "[b##blk_terminus]\n")
     took, found = _cpu_seconds(text)
     assert found == [] and took < 5, took
 
@@ -68,7 +69,8 @@ def test_a_megabyte_of_blanks_before_a_syntax_error_is_linear() -> None:
 
 
 def test_unclosed_everything() -> None:
-    assert codes('[act\n[goal:g\n[action\n[b##blk_inst: MV("1, 0') == ["P002", "P002", "P002", "P003"]
+    found = codes('[act\n[goal:g\n[action\n[b##blk_inst: MV("1, 0')
+    assert found == ["P002", "P002", "P002", "P003"]
 
 
 @pytest.mark.parametrize("number", ["1e999", "-1e999", "1" * 400])
@@ -84,7 +86,8 @@ def test_non_finite_words(word: str) -> None:
 
 
 def test_huge_time_is_refused() -> None:
-    text = HEAD + '[b##blk_inst: MV("0, 0, 0, 0, 99999999999999999999") LD() AO()]\n[b##blk_terminus]\n'
+    text = (HEAD + '[b##blk_inst: MV("0, 0, 0, 0, 99999999999999999999") LD() AO()]\n'
+            "[b##blk_terminus]\n")
     assert "V006" in codes(text)
 
 
@@ -92,7 +95,8 @@ def test_huge_time_is_refused() -> None:
 def test_many_megabytes_of_one_line() -> None:
     """A 4 MB comment and a megabyte of items, all on one line (the items cost ~0.1 ms each,
     which bench/bench_compile.py measures; the test holds correctness, not speed)."""
-    text = HEAD + "% " + "x" * 4_000_000 + " %" + "[b##blk_inst: MV() LD() AO()]" * 30_000 + "[b##blk_terminus]"
+    text = (HEAD + "% " + "x" * 4_000_000 + " %" + "[b##blk_inst: MV() LD() AO()]" * 30_000
+            + "[b##blk_terminus]")
     assert len(text) > 4_000_000
     assert codes(text) == []
 
@@ -107,7 +111,8 @@ def test_control_characters_and_nul() -> None:
 
 
 def test_crlf_and_lone_cr_line_endings() -> None:
-    text = "[act]\r\n[goal:g]\r[action]\r\n[b##blk_jump: CND(! {TRUE}) TRJMP(x) FLSJMP()]\r\n[b#x#blk_terminus]"
+    text = ("[act]\r\n[goal:g]\r[action]\r\n[b##blk_jump: CND(! {TRUE}) TRJMP(x) FLSJMP()]\r\n"
+            "[b#x#blk_terminus]")
     analysis = analyze_script(SourceFile("crlf.script", text))
     assert analysis.ok
 

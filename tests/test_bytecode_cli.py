@@ -109,7 +109,8 @@ def test_dis_in_a_real_process_never_shows_a_traceback(folder: Path) -> None:
     (folder / "bad.scb").write_bytes(b"SCB\0" + bytes(40))
     env = {k: v for k, v in os.environ.items() if k not in ("FORCE_COLOR", "NO_COLOR")}
     done = subprocess.run([sys.executable, "-m", "scriptc", "dis", "bad.scb"],
-                          capture_output=True, text=True, cwd=folder, env=env, timeout=60, check=False)
+                          capture_output=True, text=True, cwd=folder, env=env, timeout=60,
+                          check=False)
     assert done.returncode == 1
     assert "Traceback" not in done.stderr
     assert done.stderr.startswith("error: bad.scb: malformed bytecode: ")

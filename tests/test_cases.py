@@ -21,7 +21,8 @@ def test_every_file_has_a_case() -> None:
     """Each file under tests/cases/ is an input, an expected output or a declared support file:
     an expected file whose input is gone (or misnamed) is found, not kept forever."""
     stray = harness.unaccounted(CHECKS)
-    assert not stray, f"files no case reads or expects (remove them, or see tests/harness/): {stray}"
+    assert not stray, (f"files no case reads or expects (remove them, or see tests/harness/): "
+                       f"{stray}")
 
 
 def test_every_code_has_a_case() -> None:

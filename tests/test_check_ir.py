@@ -410,7 +410,8 @@ def _timed(script, source):
 def test_long_jump_cycle_needs_no_recursion():
     # 5,000 jumps in one cycle: a recursive SCC would overflow Python's stack.
     n = 5000
-    blocks = [jump(cond(evaluations=(ev("gt", num("1"), num("0")),)), true=f"j{i + 1}", label=f"j{i}")
+    blocks = [jump(cond(evaluations=(ev("gt", num("1"), num("0")),)), true=f"j{i + 1}",
+                   label=f"j{i}")
               for i in range(n - 1)]
     blocks.append(jump(cond(evaluations=(ev("gt", num("1"), num("0")),)), true="j0",
                        label=f"j{n - 1}"))

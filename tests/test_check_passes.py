@@ -186,7 +186,8 @@ def test_alias_in_its_own_tests_is_unbound():
 
 
 def test_custom_functions_extend_the_registry():
-    registry = STANDARD.extended([Function("sees", "E", (Param("who", "an alias"),), "doc", "repo")])
+    registry = STANDARD.extended([Function("sees", "E", (Param("who", "an alias"),), "doc",
+                                           "repo")])
     text = blocks(
         "[b##blk_jump: CND({CLASS #Human T ?kid ()} ! {E: sees(?kid)}) TRJMP() FLSJMP()]",
         "[b##blk_terminus]",

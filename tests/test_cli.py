@@ -29,8 +29,8 @@ WARNS = (
     "[action]\n"
     '[b##blk_inst: MV() LD("0, 0, 1, 1, 0, 100", "0, 0, 1, 1, 0, 100") AO()]\n'
 )
-BROKEN = "[bad_act]\n[goal:g]\n[action]\n[b#a#blk_jump: CND(! {TRUE}) TRJMP(nowhere) FLSJMP()]\n" \
-         "[b##blk_terminus]\n"
+BROKEN = ("[bad_act]\n[goal:g]\n[action]\n"
+          "[b#a#blk_jump: CND(! {TRUE}) TRJMP(nowhere) FLSJMP()]\n[b##blk_terminus]\n")
 
 
 def run(*args: str, input: bytes | str | None = None, env: dict | None = None):
@@ -548,7 +548,8 @@ def test_explain_a_code() -> None:
 def test_explain_an_unknown_code_suggests() -> None:
     result = run("explain", "L03")
     assert result.exit_code == 2
-    assert result.stderr.startswith("error: unknown code `L03`; did you mean `L003` (unknown-label)")
+    assert result.stderr.startswith(
+        "error: unknown code `L03`; did you mean `L003` (unknown-label)")
     assert run("explain", "unknown-labl").stderr.count("`L003` (unknown-label)") == 1
 
 

@@ -37,7 +37,8 @@ def _run(args: list[str], tmp: Path, data: bytes, name: str) -> None:
     result = CliRunner().invoke(cli, [*args, str(path)], catch_exceptions=True)
     assert result.exit_code in (0, 1, 2), (args, result.output, result.exception)
     assert "Traceback" not in result.output
-    assert not isinstance(result.exception, Exception) or isinstance(result.exception, SystemExit), result.exception
+    assert (not isinstance(result.exception, Exception)
+            or isinstance(result.exception, SystemExit)), result.exception
 
 
 @FAST

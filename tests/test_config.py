@@ -471,8 +471,8 @@ def test_config_severity_is_what_diagnostics_get() -> None:
 # The commands that compile or run stop at an error of the configuration
 
 
-GOOD = "[a]\n[goal:g]\n[action]\n[b##blk_inst: MV(\"0.1, 0, 0, 0, 100\") LD() AO()]\n" \
-       "[b##blk_terminus]\n"
+GOOD = ("[a]\n[goal:g]\n[action]\n[b##blk_inst: MV(\"0.1, 0, 0, 0, 100\") LD() AO()]\n"
+        "[b##blk_terminus]\n")
 
 
 @pytest.mark.parametrize("args", [["compile", "a.script", "-o", "a.json"],

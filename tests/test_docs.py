@@ -15,7 +15,8 @@ ROOT = Path(__file__).parent.parent
 def test_diagnostics_catalogue_is_current() -> None:
     path = ROOT / "docs" / "diagnostics.md"
     assert path.read_text(encoding="utf-8") == render_catalogue(), (
-        "docs/diagnostics.md is stale: python -m scriptc.diagnostics.catalogue > docs/diagnostics.md"
+        "docs/diagnostics.md is stale: "
+        "python -m scriptc.diagnostics.catalogue > docs/diagnostics.md"
     )
 
 
@@ -72,7 +73,8 @@ def test_the_license_is_the_one_the_package_declares() -> None:
     declared = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))
     assert declared["project"]["license"] == "MIT"
     text = (ROOT / "LICENSE").read_text(encoding="utf-8")
-    assert text.startswith("MIT License\n") and "Permission is hereby granted, free of charge" in text
+    assert text.startswith("MIT License\n")
+    assert "Permission is hereby granted, free of charge" in text
 
 
 # -- links and file names in the documentation ------------------------------------------------
@@ -179,10 +181,11 @@ def test_every_file_the_documentation_names_exists() -> None:
 
 def test_a_missing_file_is_found(tmp_path: Path) -> None:
     document = tmp_path / "doc.md"
-    document.write_text("`src/scriptc/formatter.py`, `runtime/plot.py`, `examples/`, `songs/hello.wav`,\n"
-                        "`.github/workflows/scriptc.yml`, `tests/cases/fmt/NAME.script`, `a/b`,\n"
-                        "`src/scriptc/fmt2.py` and `docs/gone/`\n```\n`src/in_code.py`\n```\n",
-                        encoding="utf-8")
+    document.write_text(
+        "`src/scriptc/formatter.py`, `runtime/plot.py`, `examples/`, `songs/hello.wav`,\n"
+        "`.github/workflows/scriptc.yml`, `tests/cases/fmt/NAME.script`, `a/b`,\n"
+        "`src/scriptc/fmt2.py` and `docs/gone/`\n```\n`src/in_code.py`\n```\n",
+        encoding="utf-8")
     assert missing_files([document]) == ["doc.md: src/scriptc/fmt2.py", "doc.md: docs/gone/"]
 
 

@@ -27,14 +27,17 @@ def canonical(text: str) -> str:
     ("!", "!"),
     ("{CLASS #Human U ?kid (?THIS>&positionrho OP< 1.5)} ! {E: gt(?kid>&permanencetime, 2000)}",
      "{CLASS #Human U ?kid (?THIS>&positionrho OP< 1.5)} ! {E: gt(?kid>&permanencetime, 2000)}"),
-    ("{CLASS   #Human U ?kid(?THIS>&positionrho   OP<1.5 ,B:near( 2 ))}!{E:gt(?kid>&permanencetime,2000)}",
-     "{CLASS #Human U ?kid (?THIS>&positionrho OP< 1.5, B: near(2))} ! {E: gt(?kid>&permanencetime, 2000)}"),
+    (("{CLASS   #Human U ?kid(?THIS>&positionrho   OP<1.5 ,B:near( 2 ))}"
+      "!{E:gt(?kid>&permanencetime,2000)}"),
+     ("{CLASS #Human U ?kid (?THIS>&positionrho OP< 1.5, B: near(2))} "
+      "! {E: gt(?kid>&permanencetime, 2000)}")),
     ("{CLASS #Obstacle T ?o ()} !", "{CLASS #Obstacle T ?o ()} !"),
     ("{VAR @v U F: now()} !", "{VAR @v U F: now()} !"),
     ('{ATT ?kid $mood U F: str("calm")} ! {TRUE}', '{ATT ?kid $mood U F: str("calm")} ! {TRUE}'),
     ('! {E: eq(?kid>$mood, @v)} {E: neq("a\\"b", "c\\\\d")}',
      '! {E: eq(?kid>$mood, @v)} {E: neq("a\\"b", "c\\\\d")}'),
-    ("! {E: lt(-0.50, +3)} {E: goalreached(?THIS)}", "! {E: lt(-0.50, +3)} {E: goalreached(?THIS)}"),
+    ("! {E: lt(-0.50, +3)} {E: goalreached(?THIS)}",
+     "! {E: lt(-0.50, +3)} {E: goalreached(?THIS)}"),
 ])
 def test_canonical_text(text: str, expected: str) -> None:
     assert canonical(text) == expected

@@ -22,7 +22,8 @@ S = Span(0, 0)
 
 def compile_text(text: str) -> str:
     script, diagnostics = lower_script(SourceFile("test.script", text))
-    assert script is not None and not [d for d in diagnostics if d.severity.value == "error"], diagnostics
+    errors = [d for d in diagnostics if d.severity.value == "error"]
+    assert script is not None and not errors, diagnostics
     return valid(emit_json(script))
 
 
@@ -117,21 +118,26 @@ def test_key_order_and_value_types() -> None:
     assert list(out) == ["activityname", "alfarulemessages", "omegarulemessages", "goal0", "goal1"]
     assert out["alfarulemessages"][0] == {
         "rulecode": 7, "id": "r", "intopic": "in", "outtopic": "out", "action": 65, "mutexcmd": 77}
-    assert list(out["alfarulemessages"][0]) == ["rulecode", "id", "intopic", "outtopic", "action", "mutexcmd"]
-    assert [m["action"] for m in out["alfarulemessages"] + out["omegarulemessages"]] == [65, 66, 68]
-    assert [m["mutexcmd"] for m in out["alfarulemessages"] + out["omegarulemessages"]] == [77, 85, 76]
+    assert list(out["alfarulemessages"][0]) == ["rulecode", "id", "intopic", "outtopic", "action",
+                                                "mutexcmd"]
+    messages = out["alfarulemessages"] + out["omegarulemessages"]
+    assert [m["action"] for m in messages] == [65, 66, 68]
+    assert [m["mutexcmd"] for m in messages] == [77, 85, 76]
     goal0 = out["goal0"]
     assert list(goal0) == ["goalid", "act0", "act1"]
     blk0 = goal0["act0"]["blk0"]
     assert list(blk0) == ["type", "flagged", "move", "led", "audioout"]
-    assert blk0["move"] == [{"v_x": "+0.25", "v_y": "-0.5", "v_theta": "1.0", "wait_t": 7, "duration": 1500}]
+    assert blk0["move"] == [{"v_x": "+0.25", "v_y": "-0.5", "v_theta": "1.0", "wait_t": 7,
+                             "duration": 1500}]
     assert list(blk0["move"][0]) == ["v_x", "v_y", "v_theta", "wait_t", "duration"]
-    assert blk0["led"] == [{"r": "0.5", "g": "0", "b": "1", "turnas": 1, "wait_t": 0, "duration": 250}]
+    assert blk0["led"] == [{"r": "0.5", "g": "0", "b": "1", "turnas": 1, "wait_t": 0,
+                            "duration": 250}]
     assert list(blk0["led"][0]) == ["r", "g", "b", "turnas", "wait_t", "duration"]
     assert blk0["audioout"] == [{"track_path": "a, b.wav", "wait_t": 3, "duration": 4}]
     jump = goal0["act0"]["blk1"]
     assert list(jump) == ["type", "toparse", "truejump", "falsejump"]
-    assert jump == {"type": "jump", "toparse": "! {TRUE}", "truejump": "goal0/act0/blk0", "falsejump": ""}
+    assert jump == {"type": "jump", "toparse": "! {TRUE}", "truejump": "goal0/act0/blk0",
+                    "falsejump": ""}
     assert goal0["act0"]["blk2"] == {"type": "sensor", "payload": ["p"]}
     assert out["goal1"]["act0"]["blk0"] == {
         "type": "jump", "toparse": "{TRUE}", "truejump": "", "falsejump": "goal0/act1/blk0"}
@@ -183,8 +189,15 @@ def test_hand_built_ir() -> None:
 
 
 def test_label_paths() -> None:
-    s = script_of(ir.TerminusBlock(name("a"), S), ir.TerminusBlock(None, S), ir.TerminusBlock(name("c"), S))
+    s = script_of(ir.TerminusBlock(name("a"), S), ir.TerminusBlock(None, S),
+                  ir.TerminusBlock(name("c"), S))
     assert label_paths(s) == {"a": "goal0/act0/blk0", "c": "goal0/act0/blk2"}
+
+
+def _one_move(wait_t: str) -> ir.Script:
+    """A script of one block moving once, after `wait_t`."""
+    move = ir.MoveCommand(n("1"), n("0"), n("0"), n(wait_t), n("1"), S)
+    return script_of(ir.InstructionBlock(None, (move,), (), (), S))
 
 
 @pytest.mark.parametrize("bad, message", [
@@ -192,12 +205,9 @@ def test_label_paths() -> None:
      "no block carries"),
     (lambda: script_of(ir.TerminusBlock(name("a"), S), ir.TerminusBlock(name("a"), S)),
      "on two blocks"),
-    (lambda: script_of(ir.InstructionBlock(None, (ir.MoveCommand(n("1"), n("0"), n("0"), n("1.5"), n("1"), S),), (), (), S)),
-     "not a whole number"),
-    (lambda: script_of(ir.InstructionBlock(None, (ir.MoveCommand(n("1"), n("0"), n("0"), n("x"), n("1"), S),), (), (), S)),
-     "not a number"),
-    (lambda: script_of(ir.InstructionBlock(None, (ir.MoveCommand(n("1"), n("0"), n("0"), n("9" * 400), n("1"), S),), (), (), S)),
-     "too large"),
+    (lambda: _one_move("1.5"), "not a whole number"),
+    (lambda: _one_move("x"), "not a number"),
+    (lambda: _one_move("9" * 400), "too large"),
     (lambda: script_of(ir.TerminusBlock(None, S), alfa=(ir.RuleMessage(
         "alfa", n("0"), name("r"), ir.Text("", S), ir.Text("", S), name("AB"), name("U"), S),)),
      "not a single letter"),
@@ -232,7 +242,8 @@ def test_ten_thousand_blocks_emit_quickly() -> None:
     lines = ["[big]", "[goal:g]", "[action]"]
     for i in range(10_000):
         if i % 3 == 0:
-            lines.append(f'[b#l{i}#blk_inst: MV("0.1, 0, 0, 10, 100") LD("1, 0, 0, 1, 0, 100") AO("Silence, 0, 1")]')
+            lines.append(f'[b#l{i}#blk_inst: MV("0.1, 0, 0, 10, 100") LD("1, 0, 0, 1, 0, 100") '
+                         'AO("Silence, 0, 1")]')
         elif i % 3 == 1:
             lines.append("[b##blk_jump: CND({CLASS #Human U ?k (?THIS>&positionrho OP< 1.5)} "
                          f"! {{E: gt(?k>&permanencetime, 2000)}}) TRJMP(l{i - 1}) FLSJMP()]")

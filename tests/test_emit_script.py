@@ -88,7 +88,8 @@ def test_format_of_listing_4_1() -> None:
 def test_format_blocks() -> None:
     name = lambda t: ir.Name(t, S)  # noqa: E731
     assert format_block(ir.SensorBlock(None, (), S)) == "[b##blk_sens]"
-    assert format_block(ir.SensorBlock(name("s"), (ir.Text('a "b"', S), ir.Text("c\\d", S)), S)) == \
+    payload = (ir.Text('a "b"', S), ir.Text("c\\d", S))
+    assert format_block(ir.SensorBlock(name("s"), payload, S)) == \
         '[b#s#blk_sens: "a \\"b\\"", "c\\\\d"]'
     assert format_block(ir.InstructionBlock(None, (), (), (), S)) == "[b##blk_inst: MV() LD() AO()]"
     audio = ir.AudioCommand(ir.Text("a, b.wav", S), ir.Number("0", S), ir.Number("1", S), S)
@@ -97,7 +98,8 @@ def test_format_blocks() -> None:
 
 
 def test_format_is_a_fixed_point_of_lowering() -> None:
-    text = (Path(__file__).parent / "cases" / "emit" / "features.script").read_text(encoding="utf-8")
+    features = Path(__file__).parent / "cases" / "emit" / "features.script"
+    text = features.read_text(encoding="utf-8")
     once = format_script(lower(text))
     assert format_script(lower(once)) == once
     assert emit_json(lower(once)) == emit_json(lower(text))
@@ -118,7 +120,8 @@ NUMBER = st.one_of(
 TIME = st.one_of(st.integers(0, 100_000).map(str), st.just("007"))
 # Text of strings: no line break (the script syntax cannot write one), quotes, backslashes,
 # commas and non-ASCII included.
-TEXT = st.text(alphabet=st.sampled_from(list(string.ascii_letters + string.digits + ' ,./\\"%#[]()àé€😀')),
+TEXT = st.text(alphabet=st.sampled_from(list(string.ascii_letters + string.digits
+                                             + ' ,./\\"%#[]()àé€😀')),
                max_size=12)
 # Audio paths: blanks, commas, quotes and backslashes included (a path is everything before
 # the last two commas of its command string).
@@ -147,22 +150,26 @@ VALUE = st.one_of(
 
 
 def calls(kind: str):
-    return st.builds(ir.Call, st.just(kind), names(NAME), st.lists(VALUE, max_size=3).map(tuple), SPAN)
+    return st.builds(ir.Call, st.just(kind), names(NAME), st.lists(VALUE, max_size=3).map(tuple),
+                     SPAN)
 
 
 SCOPE = names(st.sampled_from(["U", "L", "T"]))
 TEST = st.one_of(
-    st.builds(ir.FieldTest, names(NAME), names(st.sampled_from(["OP=", "OP<", "OP>"])), VALUE, SPAN),
+    st.builds(ir.FieldTest, names(NAME), names(st.sampled_from(["OP=", "OP<", "OP>"])), VALUE,
+              SPAN),
     st.builds(ir.CallTest, calls("B"), SPAN),
 )
 ASSIGNMENT = st.one_of(
-    st.builds(ir.ClassAssignment, names(st.sampled_from(["Human", "Obstacle", "Object", "Activity"])),
+    st.builds(ir.ClassAssignment,
+              names(st.sampled_from(["Human", "Obstacle", "Object", "Activity"])),
               SCOPE, ALIAS, st.lists(TEST, max_size=3).map(tuple), SPAN),
     st.builds(ir.VarAssignment, st.builds(ir.VarRef, names(NAME.map(lambda s: "@" + s)), SPAN),
               SCOPE, calls("F"), SPAN),
     st.builds(ir.AttAssignment, ALIAS, names(NAME.map(lambda s: "$" + s)), SCOPE, calls("F"), SPAN),
 )
-EVALUATION = st.one_of(st.builds(ir.CallEvaluation, calls("E"), SPAN), st.builds(ir.TrueEvaluation, SPAN))
+EVALUATION = st.one_of(st.builds(ir.CallEvaluation, calls("E"), SPAN),
+                       st.builds(ir.TrueEvaluation, SPAN))
 CONDITION = st.one_of(
     st.builds(ir.Condition, st.just(()), st.just(()), SPAN, st.just(True)),
     st.builds(ir.Condition, st.lists(ASSIGNMENT, max_size=3).map(tuple),
@@ -172,21 +179,25 @@ MOVE = st.builds(ir.MoveCommand, numbers(NUMBER), numbers(NUMBER), numbers(NUMBE
                  numbers(TIME), numbers(TIME), SPAN)
 LED = st.builds(ir.LedCommand, numbers(NUMBER), numbers(NUMBER), numbers(NUMBER),
                 numbers(st.sampled_from(["0", "1"])), numbers(TIME), numbers(TIME), SPAN)
-AUDIO = st.builds(ir.AudioCommand, st.builds(ir.Text, PATH, SPAN), numbers(TIME), numbers(TIME), SPAN)
-RULE = st.builds(ir.RuleMessage, st.just("alfa"), numbers(st.integers(0, 2**32 - 1).map(str)), names(NAME),
-                 st.builds(ir.Text, TEXT, SPAN), st.builds(ir.Text, TEXT, SPAN),
+AUDIO = st.builds(ir.AudioCommand, st.builds(ir.Text, PATH, SPAN), numbers(TIME), numbers(TIME),
+                  SPAN)
+RULE = st.builds(ir.RuleMessage, st.just("alfa"), numbers(st.integers(0, 2**32 - 1).map(str)),
+                 names(NAME), st.builds(ir.Text, TEXT, SPAN), st.builds(ir.Text, TEXT, SPAN),
                  names(st.sampled_from("ARDBC")), names(st.sampled_from("LMU")), SPAN)
 
 
 @st.composite
 def scripts(draw) -> ir.Script:
-    shape = draw(st.lists(st.lists(st.integers(1, 4), min_size=1, max_size=3), min_size=1, max_size=3))
+    shape = draw(st.lists(st.lists(st.integers(1, 4), min_size=1, max_size=3), min_size=1,
+                          max_size=3))
     count = sum(sum(action) for action in shape)
     labels = [f"l{i}" if draw(st.booleans()) else None for i in range(count)]
     targets = [label for label in labels if label] or [None]
-    target = st.one_of(st.none(), st.sampled_from(targets)).map(lambda t: ir.Name(t, S) if t else None)
+    target = st.one_of(st.none(), st.sampled_from(targets)).map(
+        lambda t: ir.Name(t, S) if t else None)
     block_strategy = st.one_of(
-        st.tuples(st.just("inst"), st.lists(MOVE, max_size=2), st.lists(LED, max_size=2), st.lists(AUDIO, max_size=2)),
+        st.tuples(st.just("inst"), st.lists(MOVE, max_size=2), st.lists(LED, max_size=2),
+                  st.lists(AUDIO, max_size=2)),
         st.tuples(st.just("jump"), CONDITION, target, target),
         st.tuples(st.just("term")),
         st.tuples(st.just("sens"), st.lists(st.builds(ir.Text, TEXT, SPAN), max_size=3)),
@@ -202,7 +213,8 @@ def scripts(draw) -> ir.Script:
                 i += 1
                 kind, *parts = draw(block_strategy)
                 if kind == "inst":
-                    blocks.append(ir.InstructionBlock(label, tuple(parts[0]), tuple(parts[1]), tuple(parts[2]), S))
+                    blocks.append(ir.InstructionBlock(label, tuple(parts[0]), tuple(parts[1]),
+                                                      tuple(parts[2]), S))
                 elif kind == "jump":
                     blocks.append(ir.JumpBlock(label, parts[0], parts[1], parts[2], S))
                 elif kind == "term":

@@ -126,7 +126,8 @@ def test_an_example_scenario_is_valid_and_the_compiled_forms_run(tmp_path: Path)
     summary, _ = simulate("greeting", tmp_path)
     for emit, suffix in (("json", ".json"), ("bytecode", ".scb")):
         out = tmp_path / f"greeting{suffix}"
-        assert run("compile", "--emit", emit, str(script("greeting")), "-o", str(out)).exit_code == 0
+        compiled = run("compile", "--emit", emit, str(script("greeting")), "-o", str(out))
+        assert compiled.exit_code == 0
         result = run("run", str(out), "--robot", "kinematic", "--json",
                      "--world", str(world("greeting")))
         other = json.loads(result.stdout)

@@ -101,8 +101,8 @@ def test_wrapped_lines_fit_when_they_can() -> None:
 
 
 def test_strings_and_numbers_keep_their_text() -> None:
-    text = '[a]\n[alfa:007, r, "a  b\\\\", "", A, U]\n[goal:g]\n[action]\n' \
-           '[b##blk_jump: CND(! {E: eq(1.50, "x\\"y")}) TRJMP() FLSJMP()]\n'
+    text = ('[a]\n[alfa:007, r, "a  b\\\\", "", A, U]\n[goal:g]\n[action]\n'
+            '[b##blk_jump: CND(! {E: eq(1.50, "x\\"y")}) TRJMP() FLSJMP()]\n')
     out = format_text(text).text
     assert '[alfa:007, r, "a  b\\\\", "", A, U]' in out
     assert 'eq(1.50, "x\\"y")' in out
@@ -133,12 +133,14 @@ def test_range_reformats_only_the_items_it_touches() -> None:
     edits = format_range(MESSY, at + 3, at + 5)
     assert apply_edits(MESSY, edits) == MESSY.replace("[b##blk_inst:MV()", "    [b##blk_inst: MV()")
     for (start, end), _new in ((e.span, e.new_text) for e in edits):
-        assert MESSY.index("[action]") + len("[action]") <= start and end <= MESSY.index("]\n[b##blk_t")
+        assert MESSY.index("[action]") + len("[action]") <= start
+        assert end <= MESSY.index("]\n[b##blk_t")
 
 
 def test_empty_range_takes_the_item_at_the_cursor() -> None:
     at = MESSY.index("[action]") + 2
-    assert apply_edits(MESSY, format_range(MESSY, at, at)) == MESSY.replace("[action]", "  [action]")
+    assert (apply_edits(MESSY, format_range(MESSY, at, at))
+            == MESSY.replace("[action]", "  [action]"))
 
 
 def test_range_of_a_formatted_text_has_no_edits() -> None:
@@ -149,7 +151,8 @@ def test_range_of_a_formatted_text_has_no_edits() -> None:
 def test_range_works_beside_a_syntax_error_and_never_touches_it() -> None:
     text = "[a]\n[goal:g]\n[action]\n[b##blk_inst: MV( LD() AO()]\n[b##blk_terminus]\n"
     whole = apply_edits(text, format_range(text, 0, len(text)))
-    assert whole == "[a]\n[goal:g]\n  [action]\n[b##blk_inst: MV( LD() AO()]\n    [b##blk_terminus]\n"
+    assert whole == ("[a]\n[goal:g]\n  [action]\n[b##blk_inst: MV( LD() AO()]\n"
+                     "    [b##blk_terminus]\n")
     broken = text.index("MV(")
     assert format_range(text, broken, broken + 1) == []
 

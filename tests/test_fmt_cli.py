@@ -118,7 +118,8 @@ def test_crlf_and_bom_are_kept(tree: Path) -> None:
     data = b"\xef\xbb\xbf" + MESSY.replace("\n", "\r\n").encode()
     (tree / "win.script").write_bytes(data)
     assert run("fmt", "win.script").exit_code == 0
-    assert (tree / "win.script").read_bytes() == b"\xef\xbb\xbf" + TIDY.replace("\n", "\r\n").encode()
+    assert ((tree / "win.script").read_bytes()
+            == b"\xef\xbb\xbf" + TIDY.replace("\n", "\r\n").encode())
 
 
 def test_stdin_to_stdout() -> None:
@@ -181,12 +182,13 @@ def test_folders_are_walked_as_lint_walks_them(tmp_path: Path) -> None:
     (tmp_path / ".git").mkdir()
     (tmp_path / ".gitignore").write_text("generated/\n", encoding="utf-8")
     (tmp_path / "generated").mkdir()
-    (tmp_path / "generated" / "messy.script").write_text("[a]   [goal:g][action][b##blk_terminus]\n",
-                                                         encoding="utf-8")
+    (tmp_path / "generated" / "messy.script").write_text(
+        "[a]   [goal:g][action][b##blk_terminus]\n", encoding="utf-8")
     (tmp_path / "tidy.script").write_text("[a]\n[goal:g]\n  [action]\n    [b##blk_terminus]\n",
                                           encoding="utf-8")
     result = CliRunner().invoke(cli, ["fmt", "--check", str(tmp_path)])
     assert result.exit_code == 0, result.output
     # A file named on the command line is read whatever ignores it.
-    named = CliRunner().invoke(cli, ["fmt", "--check", str(tmp_path / "generated" / "messy.script")])
+    named = CliRunner().invoke(cli, ["fmt", "--check",
+                                     str(tmp_path / "generated" / "messy.script")])
     assert named.exit_code == 1

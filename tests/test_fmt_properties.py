@@ -48,7 +48,8 @@ def decorate(text: str, rnd) -> str:
     for i, piece in enumerate(pieces):
         prev = pieces[i - 1] if i else ""
         nxt = pieces[i + 1] if i + 1 < len(pieces) else ""
-        at_boundary = not out or prev.isspace() or piece.isspace() or prev in _PUNCT or piece in _PUNCT
+        at_boundary = (not out or prev.isspace() or piece.isspace() or prev in _PUNCT
+                       or piece in _PUNCT)
         if at_boundary and rnd.random() < 0.08:
             comment = "%" + "".join(rnd.choices(COMMENT_CHARS, k=rnd.randrange(8))) + "%"
             out.append(rnd.choice(["", *BLANKS]) + comment + rnd.choice(["", *BLANKS]))

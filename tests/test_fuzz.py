@@ -77,19 +77,23 @@ def test_a_broken_law_and_a_crash_are_classified() -> None:
 
         whole_number("x")
     except ValueError as exc:
-        assert fuzzing.classify("lint", exc) == "lint: crash ValueError at scriptc/numbers.py:whole_number"
+        assert (fuzzing.classify("lint", exc)
+                == "lint: crash ValueError at scriptc/numbers.py:whole_number")
 
 
 # Each class the campaign found (issue 12 and since), and the test that keeps it fixed.
 REGRESSIONS = {
-    "render: a long line between two annotated lines": "test_render.py::test_text_snapshot[gap_long_line]",
+    "render: a long line between two annotated lines":
+        "test_render.py::test_text_snapshot[gap_long_line]",
     "numbers: huge and non-finite JSON numbers": "test_json_pos.py::test_errors",
     "numbers: scenarios": "test_runtime.py::test_numbers_and_depths_a_scenario_refuses",
     "numbers: script numbers": "cases/checks/huge_numbers.script",
     "numbers: configuration": "cases/config/non_finite_numbers.toml",
-    "names: configuration and run time": "test_language.py::test_a_function_name_the_configuration_accepts_runs",
+    "names: configuration and run time":
+        "test_language.py::test_a_function_name_the_configuration_accepts_runs",
     "names: check and decompile": "cases/json/read/reserved_activity_name.json",
-    "slow: a million open brackets": "test_bad_input.py::test_the_scanner_keeps_no_more_diagnostics_than_are_shown",
+    "slow: a million open brackets":
+        "test_bad_input.py::test_the_scanner_keeps_no_more_diagnostics_than_are_shown",
     "config: nested too deep": "cases/config/too_deep.toml",
     "check: 5,000-digit goal, action and block numbers": "cases/json/shape/huge_indexes.json",
     "compile: hang, a megabyte of blanks in an audio path":

@@ -59,8 +59,8 @@ def run(text: str, robot: str = "kinematic", profile=DEFAULT_PROFILE, until=None
 
 def moves(*commands: str, leds: str = "", audio: str = "") -> str:
     mv = ", ".join(f'"{c}"' for c in commands)
-    return f"[m]\n[goal:g]\n[action]\n[b##blk_inst: MV({mv}) LD({leds}) AO({audio})]\n" \
-           "[b##blk_terminus]\n"
+    return (f"[m]\n[goal:g]\n[action]\n[b##blk_inst: MV({mv}) LD({leds}) AO({audio})]\n"
+            "[b##blk_terminus]\n")
 
 
 # ---------------------------------------------------------------------------------------------

@@ -53,8 +53,8 @@ def test_positions_count_the_units_of_the_encoding(offset, encoding):
     position = p.position(offset)
     assert (position.line, position.character) == units_before(TEXT, offset, encoding)
     assert p.offset(position) == offset
-    assert p.units(TEXT[:offset]) == len(TEXT[:offset].encode(CODECS[encoding][0],
-                                                               "surrogatepass")) // CODECS[encoding][1]
+    codec, size = CODECS[encoding]
+    assert p.units(TEXT[:offset]) == len(TEXT[:offset].encode(codec, "surrogatepass")) // size
 
 
 def test_an_unknown_encoding_is_refused():
@@ -101,7 +101,8 @@ def test_positions_past_the_end_are_clamped():
 
 def test_an_edit_between_surrogate_halves_keeps_both_halves():
     doc = Document("x", "[a] 😀")
-    start, end, new = convert.change_to_edit(doc.text, lsp.Range(lsp.Position(0, 5), lsp.Position(0, 5)), "X")
+    start, end, new = convert.change_to_edit(
+        doc.text, lsp.Range(lsp.Position(0, 5), lsp.Position(0, 5)), "X")
     doc.replace(start, end, new)
     assert doc.text == "[a] \ud83dX\ude00"
     # Deleting the X joins the pair again, as in the client's UTF-16 text.
@@ -145,7 +146,8 @@ def test_diagnostic_conversion():
 
 def test_semantic_tokens_cut_at_line_ends_and_count_units():
     source = SourceFile("x", "% 😀\nab %[a]")
-    tokens = [answers.SemanticToken(Span(0, 8), "comment"), answers.SemanticToken(Span(9, 10), "namespace")]
+    tokens = [answers.SemanticToken(Span(0, 8), "comment"),
+              answers.SemanticToken(Span(9, 10), "namespace")]
     data = convert.semantic_tokens(convert.text_positions(source.text), tokens).value["data"]
     comment, namespace = convert._TYPE_INDEX["comment"], convert._TYPE_INDEX["namespace"]
     assert data == [0, 0, 4, comment, 0,   # `% 😀` is 4 units
@@ -155,14 +157,16 @@ def test_semantic_tokens_cut_at_line_ends_and_count_units():
 
 def test_completion_json():
     source = SourceFile("x", "[a] é")
-    items = [answers.CompletionItem("goal:", "item", Span(5, 5), snippet="goal:${1:id}", insert_text="goal:")]
+    items = [answers.CompletionItem("goal:", "item", Span(5, 5), snippet="goal:${1:id}",
+                                    insert_text="goal:")]
     with_snippets = convert.completion_list(convert.text_positions(source.text), items, True).value
     without = convert.completion_list(convert.text_positions(source.text), items, False).value
     assert with_snippets["items"][0]["textEdit"] == {
         "range": {"start": {"line": 0, "character": 5}, "end": {"line": 0, "character": 5}},
         "newText": "goal:${1:id}"}
     assert with_snippets["items"][0]["insertTextFormat"] == 2
-    assert without["items"][0]["textEdit"]["newText"] == "goal:" and "insertTextFormat" not in without["items"][0]
+    assert without["items"][0]["textEdit"]["newText"] == "goal:"
+    assert "insertTextFormat" not in without["items"][0]
 
 
 @pytest.mark.slow
@@ -173,7 +177,8 @@ def test_the_editor_api_does_not_import_the_protocol():
     code = ("import sys, scriptc.ide.hover, scriptc.ide.completion, scriptc.ide.navigation, "
             "scriptc.ide.outline, scriptc.ide.tokens, scriptc.ide.actions, scriptc.ide.hints, "
             "scriptc.ide.document, scriptc.ide.formatting; "
-            "print(sorted({m.split('.')[0] for m in sys.modules} & {'pygls', 'lsprotocol', 'cattrs'}))")
+            "print(sorted({m.split('.')[0] for m in sys.modules}"
+            " & {'pygls', 'lsprotocol', 'cattrs'}))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "[]"
 

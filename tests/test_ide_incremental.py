@@ -178,7 +178,8 @@ def test_set_text_starts_again() -> None:
 def test_layout_converts_both_ways() -> None:
     # Analysis text: "[a]" + 3 pad spaces + "\n[b]" + 2 pad spaces + "\n"
     layout = Layout(((3, 3), (10, 2)))
-    assert [layout.to_real(o) for o in (0, 3, 4, 5, 6, 7, 10, 11, 12, 13)] == [0, 3, 3, 3, 3, 4, 7, 7, 7, 8]
+    assert ([layout.to_real(o) for o in (0, 3, 4, 5, 6, 7, 10, 11, 12, 13)]
+            == [0, 3, 3, 3, 3, 4, 7, 7, 7, 8])
     assert layout.to_analysis(3) == 3 and layout.to_analysis(3, after=True) == 6
     assert layout.to_analysis(4) == 7 and layout.to_analysis(7) == 10
     assert layout.to_analysis(7, after=True) == 12 and layout.total == 5
@@ -192,7 +193,8 @@ def test_shift_moves_every_span_and_only_spans() -> None:
         encoding="utf-8"))).script
     moved = shift(script, 17)
     assert moved != script and shift(moved, -17) == script
-    assert moved.goals[0].actions[0].blocks[0].span == script.goals[0].actions[0].blocks[0].span.shift(17)
+    first_block = script.goals[0].actions[0].blocks[0]
+    assert moved.goals[0].actions[0].blocks[0].span == first_block.span.shift(17)
     assert shift(script, 0) is script
 
 
@@ -203,8 +205,10 @@ def test_every_node_type_can_be_shifted() -> None:
 
     for module in (nodes, model):
         for value in vars(module).values():
-            if isinstance(value, type) and dataclasses.is_dataclass(value) and value.__module__ == module.__name__:
-                assert value in _SHIFTERS, f"{value.__name__} has no generated shifter (is it slotted?)"
+            if (isinstance(value, type) and dataclasses.is_dataclass(value)
+                    and value.__module__ == module.__name__):
+                assert value in _SHIFTERS, (f"{value.__name__} has no generated shifter "
+                                            "(is it slotted?)")
                 assert value in _MAPPERS, f"{value.__name__} has no generated mapper"
 
 

@@ -199,7 +199,8 @@ def test_the_local_hooks_run_in_pre_commit(scaffold: Path, tmp_path: Path) -> No
     def pre_commit() -> subprocess.CompletedProcess:
         subprocess.run([git, "add", "-A"], cwd=scaffold, check=True, env=env)
         return subprocess.run([sys.executable, "-m", "pre_commit", "run", "--all-files"],
-                              cwd=scaffold, env=env, capture_output=True, text=True, timeout=120, check=False)
+                              cwd=scaffold, env=env, capture_output=True, text=True, timeout=120,
+                              check=False)
 
     subprocess.run([git, "init", "-q"], cwd=scaffold, check=True, env=env)
     done = pre_commit()
@@ -210,7 +211,8 @@ def test_the_local_hooks_run_in_pre_commit(scaffold: Path, tmp_path: Path) -> No
     messy.write_text("[messy]\n[goal:g]\n[action]\n[b##blk_terminus]\n", encoding="utf-8")
     done = pre_commit()
     assert done.returncode == 1 and "files were modified by this hook" in done.stdout
-    assert messy.read_text(encoding="utf-8") == "[messy]\n[goal:g]\n  [action]\n    [b##blk_terminus]\n"
+    assert (messy.read_text(encoding="utf-8")
+            == "[messy]\n[goal:g]\n  [action]\n    [b##blk_terminus]\n")
 
 
 def test_the_documented_workflow_is_the_one_init_writes() -> None:

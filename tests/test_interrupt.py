@@ -208,8 +208,8 @@ def test_ctrl_c_stops_scriptc_run_on_mujoco_at_once_with_its_trace(tmp_path: Pat
     print(f"\nCtrl-C to exit of `scriptc run` on MuJoCo: {latency * 1000:.0f} ms")
     assert process.returncode == 130, err
     assert latency < 1.5, latency  # the stop itself is one chunk of physics (about 10 ms)
-    assert out.startswith("interrupted at ") and "stopped by Ctrl-C while `long` " \
-        f"({script}) was running" in out.splitlines()[0], out
+    assert out.startswith("interrupted at ") and (
+        f"stopped by Ctrl-C while `long` ({script}) was running" in out.splitlines()[0]), out
     events = [json.loads(line) for line in trace.read_text(encoding="utf-8").splitlines()]
     assert f"trace: {trace} ({len(events)} events, up to the interruption)" in out, out
     end = events[-1]

@@ -62,22 +62,25 @@ def test_byte_order_mark_is_skipped() -> None:
     ('"ab', "unterminated string", 1, 1),
     ('["a\nb"]', "a line break inside a string: write it as `\\n`", 1, 4),
     ('["\\x"]', ("invalid escape `\\x` in a string: JSON knows `\\\"`, `\\\\`, `\\/`, `\\b`, "
-     "`\\f`, `\\n`, `\\r`, `\\t` and `\\uXXXX`"), 1, 3),
-    ('["\\ud800"]', "the escape `\\ud800` is the first half of a surrogate pair without its second half", 1, 3),
-    ('["\\udc00"]', "the escape `\\udc00` is the second half of a surrogate pair without its first half", 1, 3),
+                 "`\\f`, `\\n`, `\\r`, `\\t` and `\\uXXXX`"), 1, 3),
+    ('["\\ud800"]', ("the escape `\\ud800` is the first half of a surrogate pair without its "
+                     "second half"), 1, 3),
+    ('["\\udc00"]', ("the escape `\\udc00` is the second half of a surrogate pair without its "
+                     "first half"), 1, 3),
     ('["\\u12"]', "`\\u` must be followed by four hexadecimal digits", 1, 3),
     ("[True]", "`True` is not JSON: write `true`", 1, 2),
     ("[1 2]", "expected `,` or `]` after an array element, found `2`", 1, 4),
     ('{"a": 1]', "expected `,` or `}` after an object member, found `]`", 1, 8),
     ("[\n  1,\n  2", "the file ends inside an array", 3, 4),
     ("[1e999]", ("the number `1e999` is too large: numbers must be finite and within ±1.8e+308 "
-     "(a double)"), 1, 2),
+                 "(a double)"), 1, 2),
     ("[-1e400]", ("the number `-1e400` is too large: numbers must be finite and within "
-     "±1.8e+308 (a double)"), 1, 2),
+                  "±1.8e+308 (a double)"), 1, 2),
     ("{\n \"a\": " + "9" * 5000 + "}", ("the number `9999999999...999999` (5000 digits) is too "
-     "large: numbers must be finite and within ±1.8e+308 (a double)"), 2, 7),
+                                      "large: numbers must be finite and within ±1.8e+308 "
+                                      "(a double)"), 2, 7),
     ("[" + "9" * 309 + ".0]", ("the number `9999999999...9999.0` (310 digits) is too large: "
-     "numbers must be finite and within ±1.8e+308 (a double)"), 1, 2),
+                               "numbers must be finite and within ±1.8e+308 (a double)"), 1, 2),
     ("// c\n{}", "JSON has no comments", 1, 1),
     ('{"a": 1 /* c */}', "JSON has no comments", 1, 9),
 ])
@@ -139,8 +142,10 @@ def test_string_offsets_map_value_to_source() -> None:
 
 
 JSON_VALUES = st.recursive(
-    st.none() | st.booleans() | st.integers() | st.floats(allow_nan=False, allow_infinity=False) | st.text(),
-    lambda children: st.lists(children, max_size=4) | st.dictionaries(st.text(max_size=5), children, max_size=4),
+    st.none() | st.booleans() | st.integers() | st.floats(allow_nan=False, allow_infinity=False)
+    | st.text(),
+    lambda children: st.lists(children, max_size=4) | st.dictionaries(st.text(max_size=5), children,
+                                                                      max_size=4),
     max_leaves=30,
 )
 

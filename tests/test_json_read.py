@@ -60,7 +60,8 @@ def test_j001_labels_the_first_of_two_keys() -> None:
 
 def test_j002_names_the_path_and_points_at_the_value() -> None:
     d = doc(blk0={"type": "instruction", "flagged": "flag",
-                  "move": [{"v_x": "1", "v_y": "0", "v_theta": "0", "wait_t": "1000", "duration": 5}],
+                  "move": [{"v_x": "1", "v_y": "0", "v_theta": "0", "wait_t": "1000",
+                            "duration": 5}],
                   "led": [], "audioout": []})
     source, script, [problem] = read(json.dumps(d, indent=1))
     assert script is None
@@ -79,7 +80,8 @@ def test_j002_missing_and_unknown_keys_point_at_keys() -> None:
     by_path = {p.path: p for p in problems}
     assert set(by_path) == {"goal0/act0/blk0/falsejump", "goal0/act0/blk0/colour"}
     assert text_of(source, by_path["goal0/act0/blk0/falsejump"].span) == '"blk0"'
-    assert by_path["goal0/act0/blk0/falsejump"].message == "`goal0/act0/blk0` has no key `falsejump`"
+    assert (by_path["goal0/act0/blk0/falsejump"].message
+            == "`goal0/act0/blk0` has no key `falsejump`")
     assert text_of(source, by_path["goal0/act0/blk0/colour"].span) == '"colour"'
 
 
@@ -87,7 +89,8 @@ def test_j002_numbering() -> None:
     _source, _script, [problem] = read(json.dumps(doc(blk0={"type": "terminus"},
                                                        blk2={"type": "terminus"})))
     assert problem.code == "J002" and problem.path == "goal0/act0/blk2"
-    assert problem.message == "`goal0/act0` has `blk2` but no `blk1`: keys are numbered from 0 without gaps"
+    assert problem.message == ("`goal0/act0` has `blk2` but no `blk1`: keys are numbered from 0 "
+                               "without gaps")
 
 
 def test_j002_on_a_deeply_nested_document() -> None:
@@ -96,7 +99,8 @@ def test_j002_on_a_deeply_nested_document() -> None:
     _source, script, problems = read(text)
     assert script is None
     assert {p.code for p in problems} == {"J002"}
-    assert any(p.message.startswith("`activityname` must be a string, found an array") for p in problems)
+    assert any(p.message.startswith("`activityname` must be a string, found an array")
+               for p in problems)
     _, script, [problem] = read("[" * depth + "]" * depth)
     assert problem.message == "the top-level value must be an object, found an array"
 
@@ -110,9 +114,10 @@ VALID = [json.loads((DATA / name).read_text(encoding="utf-8"))
         blk2={"type": "terminus"}),
 ]
 # Copied on each draw: a mutation may later change a drawn list or object in place.
-REPLACEMENTS = st.sampled_from([None, True, False, 0, 1, 65, 85, 1.5, 1000.0, -3, "", "x", "10", "flag",
-                                "jump", "terminus", "sensor", "instruction", "a b", "line\nbreak", " lead",
-                                [], [1], ["s"], {}, {"type": "terminus"}]).map(copy.deepcopy)
+REPLACEMENTS = st.sampled_from([None, True, False, 0, 1, 65, 85, 1.5, 1000.0, -3, "", "x", "10",
+                                "flag", "jump", "terminus", "sensor", "instruction", "a b",
+                                "line\nbreak", " lead", [], [1], ["s"], {},
+                                {"type": "terminus"}]).map(copy.deepcopy)
 
 
 def _paths(value, prefix=()):
@@ -140,7 +145,8 @@ def mutated(draw):
         elif action == "delete":
             del parent[path[-1]]
         elif isinstance(parent, dict):
-            parent[draw(st.sampled_from(["extra", "goal1", "act1", "blk7", "type", "payload"]))] = draw(REPLACEMENTS)
+            key = draw(st.sampled_from(["extra", "goal1", "act1", "blk7", "type", "payload"]))
+            parent[key] = draw(REPLACEMENTS)
         else:
             parent.append(draw(REPLACEMENTS))
     return document
@@ -207,7 +213,8 @@ def test_invented_labels_only_on_targets() -> None:
 
 
 def test_j003_keeps_a_target_no_block_carries() -> None:
-    d = doc(blk0={"type": "jump", "toparse": "! {TRUE}", "truejump": "goal0/act0/blk9", "falsejump": "blk0"},
+    d = doc(blk0={"type": "jump", "toparse": "! {TRUE}", "truejump": "goal0/act0/blk9",
+                  "falsejump": "blk0"},
             blk1={"type": "terminus"})
     source, script, problems = read(json.dumps(d))
     assert script is not None
@@ -246,7 +253,8 @@ def test_condition_parse_errors_are_reported_and_the_block_kept() -> None:
 
 def test_numbers_keep_their_text() -> None:
     d = doc(blk0={"type": "instruction", "flagged": "flag", "move": [], "audioout": [],
-                  "led": [{"r": "0.50", "g": "+1", "b": ".5", "turnas": 1, "wait_t": 1e3, "duration": 10}]})
+                  "led": [{"r": "0.50", "g": "+1", "b": ".5", "turnas": 1, "wait_t": 1e3,
+                           "duration": 10}]})
     _, script, problems = read(json.dumps(d).replace("1000.0", "1e3"))
     assert problems == []
     led = script.goals[0].actions[0].blocks[0].leds[0]
@@ -259,8 +267,8 @@ def test_numbers_keep_their_text() -> None:
 
 @pytest.mark.slow
 def test_jsonschema_is_imported_only_when_validating() -> None:
-    code = ("import sys, scriptc.frontend.thesis_json, scriptc.frontend.jsonpos, scriptc.emit.json, "
-            "scriptc.emit.script, scriptc.emit.condition\n"
+    code = ("import sys, scriptc.frontend.thesis_json, scriptc.frontend.jsonpos, "
+            "scriptc.emit.json, scriptc.emit.script, scriptc.emit.condition\n"
             "assert 'jsonschema' not in sys.modules, 'jsonschema imported'\n"
             "from scriptc.frontend.thesis_json import script_from_json\n"
             "from scriptc.source import SourceFile\n"
@@ -269,7 +277,8 @@ def test_jsonschema_is_imported_only_when_validating() -> None:
     subprocess.run([sys.executable, "-c", code], check=True)
 
 
-@pytest.mark.parametrize("name", ["test_act.json", "script_gen_test_act.json", "dance_example.json"])
+@pytest.mark.parametrize("name", ["test_act.json", "script_gen_test_act.json",
+                                  "dance_example.json"])
 def test_valid_thesis_files_skip_jsonschema(name: str) -> None:
     """The thesis's files are read without running jsonschema at all (the fast check says yes)."""
     code = ("import sys\nfrom scriptc.frontend.thesis_json import script_from_json\n"

@@ -325,7 +325,8 @@ def test_without_a_configuration_the_cache_is_here(tmp_path: Path, monkeypatch) 
     monkeypatch.delenv("SCRIPTC_CACHE_DIR", raising=False)
     write(tmp_path, {"sub/w.script": WARNS})
     run("lint", "sub")
-    assert (tmp_path / ".scriptc_cache").is_dir() and not (tmp_path / "sub" / ".scriptc_cache").exists()
+    assert (tmp_path / ".scriptc_cache").is_dir()
+    assert not (tmp_path / "sub" / ".scriptc_cache").exists()
 
 
 def test_config_and_isolated_contradict_each_other(project: Path) -> None:

@@ -173,8 +173,8 @@ def test_an_unstable_run_ends_with_an_error() -> None:
 
 def test_leds_and_audio_show_in_the_model() -> None:
     robot = make_robot("mujoco")
-    text = "[m]\n[goal:g]\n[action]\n[b##blk_inst: MV() LD(\"1, 0, 0.5, 1, 0, 1000\") AO()]\n" \
-           "[b##blk_terminus]\n"
+    text = ("[m]\n[goal:g]\n[action]\n[b##blk_inst: MV() LD(\"1, 0, 0.5, 1, 0, 1000\") AO()]\n"
+            "[b##blk_terminus]\n")
     session = Session([program(text)], robot=robot, trace=Trace())
     session.run(500)
     assert robot.led_rgba() == (1.0, 0.0, 0.5, 1.0)
@@ -210,8 +210,8 @@ def test_the_summary_says_when_the_robot_came_to_rest(tmp_path: Path) -> None:
     script.write_text(moves("0.25, 0, 0, 0, 2000"), encoding="utf-8")
     text = CliRunner().invoke(cli, ["run", str(script)], catch_exceptions=False).stdout
     assert text.startswith("completed at 2000 ms")
-    assert "pose: x = 0.5000 m, y = 0.0000 m, theta = 0.0000 rad (where it came to rest at " \
-           "2250 ms, braking after the end)" in text
+    assert ("pose: x = 0.5000 m, y = 0.0000 m, theta = 0.0000 rad (where it came to rest at "
+            "2250 ms, braking after the end)") in text
     data = json.loads(CliRunner().invoke(cli, ["run", str(script), "--json"]).stdout)
     assert data["time_ms"] == 2000 and data["at_rest_ms"] == 2250
     ideal = json.loads(CliRunner().invoke(cli, ["run", str(script), "--json", "--robot",
@@ -226,7 +226,8 @@ APPROACH = """[approach]
 [goal:approach]
   [action]
     [b#step#blk_inst: MV("0.25, 0, 0, 0, 100") LD() AO()]
-    [b##blk_jump: CND({CLASS #Human U ?kid (?THIS>&positionrho OP< 0.5)} ! {TRUE}) TRJMP(greet) FLSJMP(step)]
+    [b##blk_jump: CND({CLASS #Human U ?kid (?THIS>&positionrho OP< 0.5)} ! {TRUE})
+                  TRJMP(greet) FLSJMP(step)]
     [b#greet#blk_inst: MV() LD("0, 1, 0, 1, 0, 1000") AO()]
     [b##blk_terminus]
 """

@@ -98,7 +98,8 @@ def test_the_writer_never_writes_nan_or_infinity() -> None:
 def test_traces_and_summaries_go_through_the_writer() -> None:
     from scriptc.runtime.trace import dumps
 
-    assert dumps({"t": 0, "event": "velocity", "v_x": 0.5}) == '{"t":0,"event":"velocity","v_x":0.5}'
+    assert (dumps({"t": 0, "event": "velocity", "v_x": 0.5})
+            == '{"t":0,"event":"velocity","v_x":0.5}')
     with pytest.raises(NonFiniteOutput, match="v_x"):
         dumps({"t": 0, "event": "velocity", "v_x": math.inf})
 

@@ -15,8 +15,8 @@ from click.testing import CliRunner
 from scriptc.cli.main import cli
 from scriptc.paths import repository_path, shown_path
 
-BROKEN = "[bad_act]\n[goal:g]\n[action]\n[b#a#blk_jump: CND(! {TRUE}) TRJMP(nowhere) FLSJMP()]\n" \
-         "[b##blk_terminus]\n"
+BROKEN = ("[bad_act]\n[goal:g]\n[action]\n"
+          "[b#a#blk_jump: CND(! {TRUE}) TRJMP(nowhere) FLSJMP()]\n[b##blk_terminus]\n")
 
 
 def run(*args: str):

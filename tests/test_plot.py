@@ -15,8 +15,10 @@ SCRIPT = """[approach]
 [goal:approach]
   [action]
     [b#step#blk_inst: MV("0.25, 0, 0, 0, 200") LD("0, 0, 1, 1, 0, 200") AO()]
-    [b##blk_jump: CND({CLASS #Human U ?kid (?THIS>&positionrho OP< 0.5)} ! {TRUE}) TRJMP(greet) FLSJMP(step)]
-    [b#greet#blk_inst: MV("0, 0, 1, 0, 1500") LD("0, 1, 0, 1, 0, 1000") AO("songs/hello.wav, 0, 1200")]
+    [b##blk_jump: CND({CLASS #Human U ?kid (?THIS>&positionrho OP< 0.5)} ! {TRUE})
+                  TRJMP(greet) FLSJMP(step)]
+    [b#greet#blk_inst: MV("0, 0, 1, 0, 1500") LD("0, 1, 0, 1, 0, 1000")
+                       AO("songs/hello.wav, 0, 1200")]
     [b##blk_terminus]
 """
 WORLD = {"entities": [{"objectid": "Human/kid1", "x": 1.5, "y": 0.0},
@@ -123,7 +125,8 @@ def drawn(monkeypatch, args: list[str]):
 
     figures = []
     draw = plot.draw_run
-    monkeypatch.setattr(plot, "draw_run", lambda *a, **k: figures.append(draw(*a, **k)) or figures[-1])
+    monkeypatch.setattr(plot, "draw_run",
+                        lambda *a, **k: figures.append(draw(*a, **k)) or figures[-1])
     result = CliRunner().invoke(cli, ["run", *args], catch_exceptions=False)
     assert result.exit_code == 0, result.output
     (figure,) = figures

@@ -69,7 +69,8 @@ def test_compile_decompile_compile_is_identity(text: str) -> None:
         return
     first = emit_json(analysis.script)
     script, problems = script_from_json(SourceFile("gen.json", first))
-    assert script is not None and not [p for p in problems if p.severity is Severity.ERROR], problems
+    errors = [p for p in problems if p.severity is Severity.ERROR]
+    assert script is not None and not errors, problems
     again = analyze_script(SourceFile("dec.script", format_script(script)))
     assert again.ok, again.diagnostics
     second = emit_json(again.script)

@@ -1,6 +1,7 @@
-"""Where the running scriptc came from (`scriptc.project.provenance`, PEP 610 `direct_url.json`), the
-install line `scriptc init` writes into its CI workflow for each case, and the install commands
-of the messages that need an extra (`run --plot` without matplotlib)."""
+"""Where the running scriptc came from (`scriptc.project.provenance`, PEP 610
+`direct_url.json`), the install line `scriptc init` writes into its CI workflow for each case,
+and the install commands of the messages that need an extra (`run --plot` without
+matplotlib)."""
 
 from __future__ import annotations
 
@@ -55,7 +56,8 @@ EDITABLE = {"url": "file:///home/me/scriptc", "dir_info": {"editable": True}}
     ({**VCS, "subdirectory": "python"}, "vcs",
      f"scriptc @ git+https://example.org/team/scriptc.git@{COMMIT}#subdirectory=python"),
     (None, "index", "scriptc==1.2.3"),
-    (ARCHIVE, "url", f"scriptc @ https://example.org/files/scriptc-1.2.3.tar.gz#sha256={'ab' * 32}"),
+    (ARCHIVE, "url",
+     f"scriptc @ https://example.org/files/scriptc-1.2.3.tar.gz#sha256={'ab' * 32}"),
     ({"url": ARCHIVE["url"], "archive_info": {"hash": "sha256=" + "cd" * 32}}, "url",
      f"scriptc @ https://example.org/files/scriptc-1.2.3.tar.gz#sha256={'cd' * 32}"),
     (EDITABLE, "local", None),

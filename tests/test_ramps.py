@@ -200,7 +200,9 @@ def test_two_blocks_without_k003_end_where_the_ideal_robot_does(first, second, t
     add up)."""
     lengths = [sum(wait + dur for *_, wait, dur in moves) for moves in (first, second)]
     assume(all(lengths))
-    blocks = [f'[b##blk_inst: MV({", ".join(f"{chr(34)}{vx}, {vy}, {w}, {wt}, {d}{chr(34)}" for vx, vy, w, wt, d in moves)}) LD() AO()]'
+    blocks = ["[b##blk_inst: MV("
+              + ", ".join(f'"{vx}, {vy}, {w}, {wt}, {d}"' for vx, vy, w, wt, d in moves)
+              + ") LD() AO()]"
               for moves in (first, second)]
     text = ("[k]\n[goal:g]\n[action]\n" + "\n".join(blocks) +
             f'\n[b##blk_inst: MV() LD("0, 0, 1, 1, 0, {tail + 1}") AO()]\n[b##blk_terminus]\n')

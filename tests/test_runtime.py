@@ -36,14 +36,16 @@ JUMP = """\
 [goal:g]
   [action]
     [b##blk_inst: MV() LD() AO("Silence, 0, 1000")]
-    [b##blk_jump: CND({CLASS #Human U ?kid (?THIS>&positionrho OP< 1.0)} ! {TRUE}) TRJMP(near) FLSJMP()]
+    [b##blk_jump: CND({CLASS #Human U ?kid (?THIS>&positionrho OP< 1.0)} ! {TRUE})
+                  TRJMP(near) FLSJMP()]
     [b##blk_inst: MV("-0.1, 0, 0, 0, 1000") LD() AO()]
     [b##blk_terminus]
     [b#near#blk_inst: MV("0.1, 0, 0, 0, 1000") LD() AO()]
     [b##blk_terminus]
 """
 CHILD_AT_08 = {"updates": [{"at": 500, "objectid": "Human/kid1", "attributename": "poses",
-                            "policy": "R", "jsonmsg": "{\"positionrho\": 0.8, \"positiontheta\": 0}"}]}
+                            "policy": "R",
+                            "jsonmsg": "{\"positionrho\": 0.8, \"positiontheta\": 0}"}]}
 
 
 def program(text: str, name: str = "t.script", functions=None) -> IRProgram:
@@ -331,7 +333,8 @@ def test_user_functions_are_checked_and_run() -> None:
 [goal:g]
 [action]
 [b##blk_inst: MV() LD() AO("Silence, 0, 10")]
-[b##blk_jump: CND({VAR @m U F: mood()} ! {E: closer(1, 2)} {E: eq(@m, "happy")}) TRJMP(yes) FLSJMP()]
+[b##blk_jump: CND({VAR @m U F: mood()} ! {E: closer(1, 2)} {E: eq(@m, "happy")})
+              TRJMP(yes) FLSJMP()]
 [b##blk_jump: CND(! {E: boom()}) TRJMP() FLSJMP()]
 [b#yes#blk_jump: CND(! {E: boom()}) TRJMP() FLSJMP()]
 [b##blk_terminus]
@@ -396,7 +399,8 @@ def test_user_rules_change_the_block_hold_motion_and_set_vars() -> None:
             ctx.replace_block(slow)
             ctx.set_var("@swapped", str(ctx.now))
 
-    rules.register_simple(100, "swapper", "{CLASS #Human L ?h (?THIS>&positionrho OP< 1.0)} ! {TRUE}",
+    rules.register_simple(100, "swapper",
+                          "{CLASS #Human L ?h (?THIS>&positionrho OP< 1.0)} ! {TRUE}",
                           on_true=swap, doc="slows the robot down near a child")
     rules.register_simple(101, "broken", "{TRUE}", on_true=lambda ctx: ctx.no_such_thing)
     text = """[ruled]
@@ -514,11 +518,13 @@ def test_idle_activity_is_a_clean_script() -> None:
 
 
 def test_a_replacement_idle_activity_and_the_stalled_outcome() -> None:
-    idle = program("[my_idle]\n[goal:g]\n[action]\n[b#a#blk_inst: MV() LD() AO(\"Silence, 0, 700\")]\n"
+    idle = program("[my_idle]\n[goal:g]\n[action]\n"
+                   "[b#a#blk_inst: MV() LD() AO(\"Silence, 0, 700\")]\n"
                    "[b##blk_jump: CND(! {TRUE}) TRJMP(a) FLSJMP()]\n")
     trace = Trace()
     result = Session([], idle=idle, stop_when_done=False, trace=trace).run(2000)
-    assert result.outcome == "until" and [e["script"] for e in trace.of_kind("script_load")] == ["my_idle"]
+    assert result.outcome == "until"
+    assert [e["script"] for e in trace.of_kind("script_load")] == ["my_idle"]
     assert len(trace.of_kind("block")) == 3  # 0, 700, 1400
     freeze = {"operator": [{"at": 0, "command": "safety_lock", "held": True},
                            {"at": 100, "command": "interrupt"}]}
@@ -586,9 +592,10 @@ def test_scenario_errors_name_the_file_and_the_place(tmp_path: Path) -> None:
     path = tmp_path / "w.json"
     path.write_text(json.dumps({
         "updates": [
-            {"at": 5, "objectid": "Human/k", "attributename": "poses", "policy": "X", "jsonmsg": "{}"},
-            {"at": 5, "objectid": "Human/k", "attributename": "poses", "policy": "R", "jsonmsg": "{}",
-             "extra": 1},
+            {"at": 5, "objectid": "Human/k", "attributename": "poses", "policy": "X",
+             "jsonmsg": "{}"},
+            {"at": 5, "objectid": "Human/k", "attributename": "poses", "policy": "R",
+             "jsonmsg": "{}", "extra": 1},
         ],
         "operator": [{"at": 1, "command": "safety_lock", "v_x": 1, "on": True}],
         "updatez": [],
@@ -737,8 +744,8 @@ def test_cli_text_summary_and_queue_of_json_and_script(tmp_path: Path) -> None:
 
 def test_cli_refuses_scripts_with_errors(tmp_path: Path) -> None:
     bad = tmp_path / "bad.script"
-    bad.write_text("[bad]\n[goal:g]\n[action]\n[b##blk_jump: CND(! {TRUE}) TRJMP(nowhere) FLSJMP()]\n",
-                   encoding="utf-8")
+    bad.write_text("[bad]\n[goal:g]\n[action]\n"
+                   "[b##blk_jump: CND(! {TRUE}) TRJMP(nowhere) FLSJMP()]\n", encoding="utf-8")
     result = cli_run(str(EXAMPLE), str(bad))
     assert result.exit_code == 1
     assert "error[L003]" in result.stderr and not result.stdout
@@ -762,7 +769,9 @@ def test_cli_bytecode_is_verified_then_run_by_the_vm(tmp_path: Path) -> None:
     result = cli_run(str(bad))
     assert result.exit_code == 1 and "malformed bytecode" in result.stderr
     scb = tmp_path / "t.scb"
-    assert CliRunner().invoke(cli, ["compile", str(EXAMPLE), "--emit", "bytecode", "-o", str(scb)]).exit_code == 0
+    compiled = CliRunner().invoke(cli, ["compile", str(EXAMPLE), "--emit", "bytecode", "-o",
+                                        str(scb)])
+    assert compiled.exit_code == 0
     ran = json.loads(cli_run(str(scb), "--json").stdout)
     assert ran["outcome"] == "completed" and ran["time_ms"] == 16_000
     for executor in ("vm", "ir"):
@@ -808,7 +817,8 @@ def test_the_runtime_never_reads_the_wall_clock() -> None:
 
     runtime = ROOT / "src" / "scriptc" / "runtime"
     clock = re.compile(r"\b(import time|from time|datetime|perf_counter|monotonic|time\.time)\b")
-    offenders = [p.name for p in runtime.rglob("*.py") if clock.search(p.read_text(encoding="utf-8"))]
+    offenders = [p.name for p in runtime.rglob("*.py")
+                 if clock.search(p.read_text(encoding="utf-8"))]
     assert not offenders
 
 
@@ -820,8 +830,10 @@ def test_scriptc_run_stays_light(tmp_path: Path) -> None:
     import sys
 
     (tmp_path / "a.script").write_text(
-        "[a]\n[goal:g]\n[action]\n[b##blk_inst: MV() LD() AO()]\n[b##blk_terminus]\n", encoding="utf-8")
-    probe = ("import sys\nfrom scriptc.cli.main import main\nsys.argv = ['scriptc', 'run', 'a.script', '--robot', 'kinematic']\n"
+        "[a]\n[goal:g]\n[action]\n[b##blk_inst: MV() LD() AO()]\n[b##blk_terminus]\n",
+        encoding="utf-8")
+    probe = ("import sys\nfrom scriptc.cli.main import main\n"
+             "sys.argv = ['scriptc', 'run', 'a.script', '--robot', 'kinematic']\n"
              "try:\n    main()\nexcept SystemExit:\n    pass\n"
              "print(sorted({m.split('.')[0] for m in sys.modules}))")
     done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,

@@ -96,8 +96,8 @@ def test_declared_functions_and_rules_run(repo: Path) -> None:
 
 
 def test_an_implementation_that_cannot_be_imported_is_named(repo: Path) -> None:
-    (repo / "scriptc.toml").write_text(CONFIG.replace("activity_rules:Wave", "activity_rules:Missing"),
-                                       encoding="utf-8")
+    (repo / "scriptc.toml").write_text(
+        CONFIG.replace("activity_rules:Wave", "activity_rules:Missing"), encoding="utf-8")
     settings = setup_for(str(repo / "party.script"), cache=False).settings
     with pytest.raises(ConfiguredError, match=r"rule `wave`.*Missing"):
         rules_for(settings)
@@ -125,7 +125,8 @@ def test_scriptc_run_names_an_implementation_it_cannot_import(repo: Path) -> Non
 
     from scriptc.cli.main import cli
 
-    (repo / "scriptc.toml").write_text(CONFIG.replace("activity_functions:farther", "nowhere:farther"),
-                                       encoding="utf-8")
+    (repo / "scriptc.toml").write_text(
+        CONFIG.replace("activity_functions:farther", "nowhere:farther"), encoding="utf-8")
     result = CliRunner().invoke(cli, ["run", str(repo / "party.script"), "--robot", "kinematic"])
-    assert result.exit_code == 2 and "function `farther`" in result.output and "nowhere" in result.output
+    assert result.exit_code == 2
+    assert "function `farther`" in result.output and "nowhere" in result.output

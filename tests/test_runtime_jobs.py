@@ -120,7 +120,8 @@ def test_a_rule_context_changes_the_map_and_the_bindings() -> None:
     ctx.set_var("count", "3")
     ctx.set_var("@mood", "calm", "T")
     assert host.bindings.get_var("@count") == "3" and host.bindings.get_var("@mood") == "calm"
-    assert host.bindings.vars["@count"].scope == "U" and host.bindings.vars["@count"].owner == "helper"
+    count = host.bindings.vars["@count"]
+    assert count.scope == "U" and count.owner == "helper"
     assert host.bindings.vars["@mood"].scope == "T"
     host.world.apply(parse_update("Human/kid", "poses", "R", {"positionrho": 1.0}), 0)
     host.bindings.bind("?kid", host.world.entity("Human", "kid"), "U", READER)
@@ -277,7 +278,8 @@ def test_a_script_without_alfa_messages_completes_the_hand_over() -> None:
     session.mutex.lock(0, "omega of `before`")
     session.mutex.hand_over(0, (), "alfa", "plain")
     assert not session.mutex.chain.locked
-    assert session.trace.events[-1]["by"] == "`plain` has no alfa messages: the hand-over is complete"
+    assert (session.trace.events[-1]["by"]
+            == "`plain` has no alfa messages: the hand-over is complete")
     assert not _misuses(session)
 
 

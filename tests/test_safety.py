@@ -118,7 +118,8 @@ def test_lint_and_compile_use_the_repository_profile(tmp_path) -> None:
     from scriptc.cli.main import cli
 
     script = tmp_path / "fast.script"
-    script.write_text('[fast]\n[goal:g]\n  [action]\n    [b##blk_inst: MV("10, 0, 0, 0, 1000") LD() AO()]\n'
+    script.write_text('[fast]\n[goal:g]\n  [action]\n'
+                      '    [b##blk_inst: MV("10, 0, 0, 0, 1000") LD() AO()]\n'
                       "    [b##blk_terminus]\n", encoding="utf-8")
     runner = CliRunner()
     assert "K001" in runner.invoke(cli, ["lint", "--no-cache", str(script)]).output

@@ -33,7 +33,8 @@ def validator(name: str) -> jsonschema.Draft202012Validator:
 
 
 def errors(name: str, instance) -> list[str]:
-    return [f"{'/'.join(map(str, e.absolute_path))}: {e.message}" for e in validator(name).iter_errors(instance)]
+    return [f"{'/'.join(map(str, e.absolute_path))}: {e.message}"
+            for e in validator(name).iter_errors(instance)]
 
 
 @pytest.mark.parametrize("name", SCHEMAS)
@@ -49,7 +50,8 @@ def test_thesis_files_are_valid(path: Path) -> None:
 
 
 EMITTED = sorted((TESTS / "cases").rglob("*.out.json"))
-SCRIPTS = sorted(p for p in (TESTS / "cases").rglob("*.script") if not p.name.endswith(".out.script"))
+SCRIPTS = sorted(p for p in (TESTS / "cases").rglob("*.script")
+                 if not p.name.endswith(".out.script"))
 
 
 @pytest.mark.parametrize("path", EMITTED, ids=lambda p: str(p.relative_to(TESTS)))
@@ -74,15 +76,16 @@ def test_every_compilable_case_emits_valid_json() -> None:
 
 @pytest.mark.parametrize("bad, where", [
     ({"activityname": "a"}, ""),
-    ({"activityname": "a", "alfarulemessages": [], "omegarulemessages": [], "goal0": {"goalid": "g", "act0": {
-        "blk0": {"type": "instruction", "flagged": "flag", "move": [], "led": [], "audioout": [],
-                 "extra": 1}}}}, "goal0/act0/blk0"),
-    ({"activityname": "a", "alfarulemessages": [{"rulecode": 0, "id": "r", "intopic": "", "outtopic": "",
-                                                 "action": 90, "mutexcmd": 85}],
+    ({"activityname": "a", "alfarulemessages": [], "omegarulemessages": [],
+      "goal0": {"goalid": "g", "act0": {
+          "blk0": {"type": "instruction", "flagged": "flag", "move": [], "led": [], "audioout": [],
+                   "extra": 1}}}}, "goal0/act0/blk0"),
+    ({"activityname": "a", "alfarulemessages": [{"rulecode": 0, "id": "r", "intopic": "",
+                                                 "outtopic": "", "action": 90, "mutexcmd": 85}],
       "omegarulemessages": [], "goal0": {"goalid": "g", "act0": {"blk0": {"type": "terminus"}}}},
      "alfarulemessages/0/action"),
-    ({"activityname": "a", "alfarulemessages": [], "omegarulemessages": [], "goal0": {"goalid": "g", "act0": {
-        "blk0": {"type": "sensor"}}}}, "goal0/act0/blk0"),
+    ({"activityname": "a", "alfarulemessages": [], "omegarulemessages": [],
+      "goal0": {"goalid": "g", "act0": {"blk0": {"type": "sensor"}}}}, "goal0/act0/blk0"),
 ])
 def test_thesis_schema_rejects(bad, where: str) -> None:
     found = errors("thesis-script.schema.json", bad)

@@ -59,9 +59,9 @@ def test_a_comment_inside_a_multiline_item_covers_all_of_it() -> None:
 
 
 def test_errors_are_never_suppressed() -> None:
-    text = HEAD + "[b##blk_jump: CND(! {TRUE}) TRJMP(nowhere) FLSJMP()]" \
-        " % scriptc: ignore[L003] %\n" \
-        "% scriptc: ignore-file[unknown-label] %\n[b##blk_terminus]\n"
+    text = HEAD + ("[b##blk_jump: CND(! {TRUE}) TRJMP(nowhere) FLSJMP()]"
+                   " % scriptc: ignore[L003] %\n"
+                   "% scriptc: ignore-file[unknown-label] %\n[b##blk_terminus]\n")
     analysis = lint(text)
     assert [d.code for d in analysis.diagnostics] == ["L003", "C004", "C004"]
     assert not analysis.ok and analysis.suppressed == []

@@ -44,7 +44,8 @@ def test_language_configuration_knows_brackets_and_percent_comments() -> None:
 
 @pytest.mark.packaging
 def test_vsix_builds_and_grammar_tests_pass() -> None:
-    assert shutil.which("node") and shutil.which("npm"), "Node.js and npm are needed (docs/editors.md)"
+    assert shutil.which("node") and shutil.which("npm"), (
+        "Node.js and npm are needed (docs/editors.md)")
     done = subprocess.run(["bash", str(VSCODE / "scripts" / "check.sh")], capture_output=True,
                           text=True, timeout=300, stdin=subprocess.DEVNULL, check=False)
     output = done.stdout + done.stderr

@@ -257,7 +257,8 @@ def _mutants(draw_sample):
             elif kind == "num" and numbers:
                 code[at:at + 4] = _struct.pack("<I", draw(st.sampled_from(numbers)))
             elif kind == "const":
-                code[at:at + 4] = _struct.pack("<I", draw(st.integers(0, len(program.constants) - 1)))
+                constant = draw(st.integers(0, len(program.constants) - 1))
+                code[at:at + 4] = _struct.pack("<I", constant)
             elif kind == "block":
                 code[at:at + 4] = _struct.pack("<I", draw(st.integers(0, len(program.blocks) - 1)))
             elif kind == "scope":

@@ -41,13 +41,16 @@ def test_wheel_ships_data_and_runs_anywhere(tmp_path: Path) -> None:
     elsewhere = tmp_path / "elsewhere"
     elsewhere.mkdir()
     script = elsewhere / "hello.script"
-    script.write_text((ROOT / "examples" / "test_act.script").read_text(encoding="utf-8"), encoding="utf-8")
+    script.write_text((ROOT / "examples" / "test_act.script").read_text(encoding="utf-8"),
+                      encoding="utf-8")
     # Only the installed wheel and the dependencies: not the source tree.
-    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(target), sysconfig.get_paths()["purelib"]]))
+    env = dict(os.environ,
+               PYTHONPATH=os.pathsep.join([str(target), sysconfig.get_paths()["purelib"]]))
     probe = subprocess.run(
         [sys.executable, "-I", "-c",
          ("import sys; sys.path[:0] = sys.argv[1].split(__import__('os').pathsep);"
-          "import scriptc, scriptc.resources as r; print(scriptc.__file__); print(r.data_dir('grammar'))"),
+          "import scriptc, scriptc.resources as r; "
+          "print(scriptc.__file__); print(r.data_dir('grammar'))"),
          env["PYTHONPATH"]],
         cwd=elsewhere, capture_output=True, text=True, check=True,
     )
@@ -55,9 +58,11 @@ def test_wheel_ships_data_and_runs_anywhere(tmp_path: Path) -> None:
     run = subprocess.run(
         [sys.executable, "-I", "-c",
          ("import sys; sys.path[:0] = sys.argv[1].split(__import__('os').pathsep);"
-          "from scriptc.cli.main import main; sys.argv = ['scriptc', 'compile', 'hello.script', '-o', 'out.json']; main()"),
+          "from scriptc.cli.main import main; "
+          "sys.argv = ['scriptc', 'compile', 'hello.script', '-o', 'out.json']; main()"),
          env["PYTHONPATH"]],
         cwd=elsewhere, capture_output=True, text=True, check=False,
     )
     assert run.returncode == 0, run.stderr
-    assert (elsewhere / "out.json").read_text(encoding="utf-8") == (ROOT / "tests/data/script_gen_test_act.json").read_text(encoding="utf-8")
+    expected = (ROOT / "tests/data/script_gen_test_act.json").read_text(encoding="utf-8")
+    assert (elsewhere / "out.json").read_text(encoding="utf-8") == expected

@@ -25,8 +25,8 @@ from scriptc import writing
 from scriptc.cli.main import cli
 
 CLEAN = "[clean_act]\n[goal:g]\n[action]\n[b##blk_inst: MV() LD() AO()]\n[b##blk_terminus]\n"
-BROKEN = "[bad_act]\n[goal:g]\n[action]\n[b#a#blk_jump: CND(! {TRUE}) TRJMP(nowhere) FLSJMP()]\n" \
-         "[b##blk_terminus]\n"
+BROKEN = ("[bad_act]\n[goal:g]\n[action]\n"
+          "[b#a#blk_jump: CND(! {TRUE}) TRJMP(nowhere) FLSJMP()]\n[b##blk_terminus]\n")
 # Not in the canonical layout: `fmt` rewrites it.
 MESSY = "[messy]\n[goal:g]\n[action]\n[b##blk_inst:   MV()  LD() AO()]\n[b##blk_terminus]\n"
 # R007 (a lowercase scope) has a safe fix.

@@ -113,7 +113,8 @@ class Check:
 
     @property
     def id(self) -> str:
-        return f"{self.aspect}:{relative(self.input)}" + (f"[{self.variant}]" if self.variant else "")
+        variant = f"[{self.variant}]" if self.variant else ""
+        return f"{self.aspect}:{relative(self.input)}{variant}"
 
 
 # Files under tests/cases/ that are neither inputs nor expected outputs: what the cases need,
@@ -140,4 +141,5 @@ def unaccounted(all_checks: Iterable[Check]) -> list[str]:
         known.add(check.input)
         known.update(check.expected)
         known.update(check.reads)
-    return [relative(p) for p in files() if p not in known and not relative(p).startswith("render/")]
+    return [relative(p) for p in files()
+            if p not in known and not relative(p).startswith("render/")]

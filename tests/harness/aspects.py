@@ -155,7 +155,8 @@ def _meaning(text: str) -> tuple[str | None, list[str]]:
     from scriptc.source import SourceFile
 
     found = analyze_script(SourceFile("x.script", text))
-    return (emit_json(found.script) if found.ok else None), sorted(d.code for d in found.diagnostics)
+    return ((emit_json(found.script) if found.ok else None),
+            sorted(d.code for d in found.diagnostics))
 
 
 def _fmt(path: Path) -> None:

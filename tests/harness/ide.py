@@ -50,7 +50,8 @@ def _at(snapshot: Snapshot, offset: int) -> str:
 
 def _span(snapshot: Snapshot, span: Span) -> str:
     covered = snapshot.text[span.start:span.end]
-    shown = covered if len(covered) <= 60 and "\n" not in covered else covered[:57].split("\n")[0] + "..."
+    shown = (covered if len(covered) <= 60 and "\n" not in covered
+             else covered[:57].split("\n")[0] + "...")
     return f"{_at(snapshot, span.start)}-{_at(snapshot, span.end)} `{shown}`"
 
 
@@ -161,7 +162,8 @@ FEATURES = {
 
 def _check(path: Path) -> None:
     feature = path.stem.split("_")[0]
-    assert feature in FEATURES, f"{path.name}: the file name must start with one of {list(FEATURES)}"
+    assert feature in FEATURES, (f"{path.name}: the file name must start with one of "
+                                 f"{list(FEATURES)}")
     snapshot, cursor, end, args = _load(path)
     expect(beside(path, ".expect"), FEATURES[feature](snapshot, cursor, end, args))
 

@@ -151,7 +151,8 @@ class Doc:
         lines = self.text.split("\n")
         prefix = sum(len(line) + 1 for line in lines[:position.line])
         units = lines[position.line].encode(self.codec, "surrogatepass")
-        return prefix + len(units[:position.character * self.unit].decode(self.codec, "surrogatepass"))
+        before = units[:position.character * self.unit]
+        return prefix + len(before.decode(self.codec, "surrogatepass"))
 
     def range_text(self, range_: lsp.Range) -> str:
         return self.text[self.offset(range_.start):self.offset(range_.end)]
@@ -178,7 +179,8 @@ class Doc:
         self.client.text_document_did_close(lsp.DidCloseTextDocumentParams(self.id))
 
 
-def decode(legend: lsp.SemanticTokensLegend, doc: Doc, data: list[int]) -> list[tuple[str, str, list[str]]]:
+def decode(legend: lsp.SemanticTokensLegend, doc: Doc,
+           data: list[int]) -> list[tuple[str, str, list[str]]]:
     """Semantic tokens in the protocol's relative encoding, as (text, type, modifiers)."""
     out = []
     line = col = 0

@@ -23,12 +23,14 @@ def applied(doc: Doc, action: lsp.CodeAction) -> str:
 
 
 CASES = [
-    ("mutex", '[a]\n[alfa:0, k, "", "", R, M]\n[omega:0, k, "", "", C, L]\n[goal:g]\n[action]\n[b##blk_terminus]\n',
+    ("mutex", ('[a]\n[alfa:0, k, "", "", R, M]\n[omega:0, k, "", "", C, L]\n[goal:g]\n[action]\n'
+               '[b##blk_terminus]\n'),
      "R, M", 3, "M001", '[alfa:0, k, "", "", R, U]'),
     ("label", ("[a]\n[goal:g]\n[action]\n[b#start#blk_inst: MV() LD() AO()]\n"
                "[b##blk_jump: CND(! {TRUE}) TRJMP(strat) FLSJMP()]\n[b##blk_terminus]\n"),
      "strat", 1, "L003", "TRJMP(start)"),
-    ("operator", ("[a]\n[goal:g]\n[action]\n[b##blk_jump: CND({CLASS #Human U ?k (?THIS>&positionrho < 1)} ! {TRUE}) "
+    ("operator", ("[a]\n[goal:g]\n[action]\n"
+                  "[b##blk_jump: CND({CLASS #Human U ?k (?THIS>&positionrho < 1)} ! {TRUE}) "
                   "TRJMP() FLSJMP()]\n[b##blk_terminus]\n"),
      "< 1", 0, "P001", "positionrho OP< 1"),
     ("terminus", "[a]\n[goal:g]\n  [action]\n    [b##blk_inst: MV() LD() AO()]\n",
@@ -38,10 +40,12 @@ CASES = [
 ]
 
 
-@pytest.mark.parametrize("name, text, marker, delta, code, expected", CASES, ids=[c[0] for c in CASES])
+@pytest.mark.parametrize("name, text, marker, delta, code, expected", CASES,
+                         ids=[c[0] for c in CASES])
 async def test_quick_fix(client, name, text, marker, delta, code, expected):
     doc = await Doc.open(client, f"actions-{name}.script", text)
-    found = [a for a in await actions_at(doc, marker, delta) if a.kind == lsp.CodeActionKind.QuickFix]
+    found = [a for a in await actions_at(doc, marker, delta)
+             if a.kind == lsp.CodeActionKind.QuickFix]
     assert found, f"no quick fix at {marker!r}"
     action = found[0]
     assert [d.code for d in action.diagnostics] == [code]
@@ -53,7 +57,8 @@ async def test_quick_fix(client, name, text, marker, delta, code, expected):
 
 async def test_fix_all_applies_the_safe_fixes(client):
     text = ('[a]\n[alfa:0, k, "", "", R, M]\n[omega:0, k, "", "", C, M]\n[goal:g]\n[action]\n'
-            '[b##blk_jump: CND({CLASS #Human u ?kid ()} ! {TRUE}) TRJMP() FLSJMP()]\n[b##blk_terminus]\n')
+            '[b##blk_jump: CND({CLASS #Human u ?kid ()} ! {TRUE}) TRJMP() FLSJMP()]\n'
+            '[b##blk_terminus]\n')
     doc = await Doc.open(client, "actions-all.script", text)
     (action,) = await actions_at(doc, "[a]", only=[lsp.CodeActionKind.SourceFixAll])
     assert action.kind == lsp.CodeActionKind.SourceFixAll
@@ -63,5 +68,6 @@ async def test_fix_all_applies_the_safe_fixes(client):
 
 
 async def test_no_action_where_nothing_is_wrong(client):
-    doc = await Doc.open(client, "actions-none.script", "[a]\n[goal:g]\n[action]\n[b##blk_terminus]\n")
+    doc = await Doc.open(client, "actions-none.script",
+                         "[a]\n[goal:g]\n[action]\n[b##blk_terminus]\n")
     assert await actions_at(doc, "goal") == []

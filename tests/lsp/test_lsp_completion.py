@@ -41,7 +41,8 @@ async def test_items_after_bracket(client):
 
 
 async def test_labels_in_jumps_with_paths(client):
-    doc, items = await complete_after(client, "c-labels.script", "    [b##blk_jump: CND(! {TRUE}) TRJMP(st")
+    doc, items = await complete_after(client, "c-labels.script",
+                                      "    [b##blk_jump: CND(! {TRUE}) TRJMP(st")
     assert [(i.label, i.detail) for i in items] == [
         ("start", "goal0/act0/blk0 · blk_inst"), ("wait", "goal0/act0/blk1 · blk_jump"),
         ("end", "goal0/act0/blk2 · blk_terminus")]
@@ -57,15 +58,18 @@ async def test_classes_after_hash(client):
 
 
 async def test_fields_of_the_alias_class(client):
-    _, items = await complete_after(client, "c-fields.script", "    [b##blk_jump: CND(! {E: gt(?box>&")
+    _, items = await complete_after(client, "c-fields.script",
+                                    "    [b##blk_jump: CND(! {E: gt(?box>&")
     labels = [i.label for i in items]
     assert "isfixed" in labels and "istarget" not in labels
 
 
 async def test_functions_of_the_kind(client):
-    _, items = await complete_after(client, "c-functions.script", "    [b##blk_jump: CND({VAR @t U F: ")
+    _, items = await complete_after(client, "c-functions.script",
+                                    "    [b##blk_jump: CND({VAR @t U F: ")
     assert sorted(i.label for i in items) == ["now", "str"]
-    _, items = await complete_after(client, "c-functions-b.script", "    [b##blk_jump: CND({CLASS #Human U ?k (B: ")
+    _, items = await complete_after(client, "c-functions-b.script",
+                                    "    [b##blk_jump: CND({CLASS #Human U ?k (B: ")
     assert [i.label for i in items] == ["near"]
 
 
@@ -77,11 +81,14 @@ async def test_documentation_is_plain_text_for_a_client_without_markdown(client)
 
 
 async def test_scopes_and_rule_ids(client):
-    _, items = await complete_after(client, "c-scopes.script", "    [b##blk_jump: CND({CLASS #Human ")
+    _, items = await complete_after(client, "c-scopes.script",
+                                    "    [b##blk_jump: CND({CLASS #Human ")
     assert [i.label for i in items] == ["U", "L", "T"]
-    doc = await Doc.open(client, "c-rules.script", BASE.replace("[goal:wave]", "[omega:0, k\n[goal:wave]"))
+    doc = await Doc.open(client, "c-rules.script",
+                         BASE.replace("[goal:wave]", "[omega:0, k\n[goal:wave]"))
     at = doc.text.index("[omega:0, k") + len("[omega:0, k")
-    result = await client.text_document_completion_async(lsp.CompletionParams(doc.id, doc.position(at)))
+    result = await client.text_document_completion_async(
+        lsp.CompletionParams(doc.id, doc.position(at)))
     assert [i.label for i in result.items] == ["kick_starter"]
 
 

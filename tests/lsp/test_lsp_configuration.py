@@ -117,7 +117,8 @@ async def test_only_a_configuration_file_s_event_renews_the_configuration():
 async def test_the_robot_profile_of_the_configuration_applies(client, tmp_path):
     """K001 against the repository's `[robot]` limits, as `scriptc lint` checks them; and
     again when they change."""
-    fast = ("[greet]\n[goal:g]\n  [action]\n    [b##blk_inst: MV(\"0.8, 0, 0, 0, 1000\") LD() AO()]\n"
+    fast = ("[greet]\n[goal:g]\n  [action]\n"
+            "    [b##blk_inst: MV(\"0.8, 0, 0, 0, 1000\") LD() AO()]\n"
             "    [b##blk_terminus]\n")
     doc, config, first = await opened(client, tmp_path, "[robot]\nmax-linear-speed = 1.0\n",
                                       "fast.script", fast)
@@ -155,7 +156,8 @@ async def current(client: LanguageClient, doc: Doc, pulls: bool, refreshed: int)
         if pulls:
             while client.refreshes == refreshed:
                 await asyncio.sleep(0.05)
-            report = await client.text_document_diagnostic_async(lsp.DocumentDiagnosticParams(doc.id))
+            report = await client.text_document_diagnostic_async(
+                lsp.DocumentDiagnosticParams(doc.id))
             return [d.code for d in report.items]
         return [d.code for d in await doc.diagnostics()]
 

@@ -14,7 +14,8 @@ from scriptc.source import SourceFile
 
 pytestmark = pytest.mark.asyncio(loop_scope="module")
 
-CLEAN = "[greet]\n[goal:g]\n  [action]\n    [b#start#blk_inst: MV() LD() AO()]\n    [b##blk_terminus]\n"
+CLEAN = ("[greet]\n[goal:g]\n  [action]\n    [b#start#blk_inst: MV() LD() AO()]\n"
+         "    [b##blk_terminus]\n")
 
 
 def cli(text: str) -> list[tuple[str, str]]:
@@ -123,8 +124,9 @@ async def test_the_repository_configuration_applies(client, name):
     got = await doc.diagnostics()
     severity = {lsp.DiagnosticSeverity.Error: "error", lsp.DiagnosticSeverity.Warning: "warning",
                 lsp.DiagnosticSeverity.Information: "info"}
-    found = [((f"{d.range.start.line + 1}:{d.range.start.character + 1}-{d.range.end.line + 1}:"
-               f"{d.range.end.character + 1}"), severity[d.severity], d.code, d.message) for d in got]
+    found = [((f"{d.range.start.line + 1}:{d.range.start.character + 1}-"
+               f"{d.range.end.line + 1}:{d.range.end.character + 1}"),
+              severity[d.severity], d.code, d.message) for d in got]
     assert found == parsed(path.with_suffix(".lint").read_text(encoding="utf-8"))
     doc.close()
 
@@ -132,7 +134,8 @@ async def test_the_repository_configuration_applies(client, name):
 async def test_pull_gives_what_is_pushed(client):
     """textDocument/diagnostic answers with the same diagnostics. (A client that can pull
     gets no pushes: `diagnostic_modes`, tests/test_ide_convert.py.)"""
-    text = "[greet]\n[goal:g]\n  [action]\n    [b##blk_jump: CND(! {TRUE}) TRJMP(nowhere) FLSJMP()]\n"
+    text = ("[greet]\n[goal:g]\n  [action]\n"
+            "    [b##blk_jump: CND(! {TRUE}) TRJMP(nowhere) FLSJMP()]\n")
     doc = await Doc.open(client, "pull.script", text)
     pushed = await doc.diagnostics()
     report = await client.text_document_diagnostic_async(lsp.DocumentDiagnosticParams(doc.id))

@@ -72,7 +72,8 @@ async def same_as_a_fresh_open(client, doc: Doc, name: str) -> None:
         whole = lsp.Range(lsp.Position(0, 0), doc.position(len(doc.text)))
         hints = [await client.text_document_inlay_hint_async(lsp.InlayHintParams(d.id, whole))
                  for d in (doc, fresh)]
-        assert [(h.position, h.label) for h in hints[0]] == [(h.position, h.label) for h in hints[1]]
+        assert ([(h.position, h.label) for h in hints[0]]
+                == [(h.position, h.label) for h in hints[1]])
         at = doc.text.index("blk_inst")
         hovers = [await client.text_document_hover_async(lsp.HoverParams(d.id, d.position(at)))
                   for d in (doc, fresh)]

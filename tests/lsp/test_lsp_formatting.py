@@ -11,7 +11,8 @@ from scriptc.formatter import format_text
 
 pytestmark = pytest.mark.asyncio(loop_scope="module")
 
-MESSY = "% keep me %\n[a]\n[goal:g]\n[action]\n[b#é😀x##blk_inst:MV()LD()AO()]\n[b##blk_inst:MV()LD()AO()]\n[b##blk_terminus]\n"
+MESSY = ("% keep me %\n[a]\n[goal:g]\n[action]\n[b#é😀x##blk_inst:MV()LD()AO()]\n"
+         "[b##blk_inst:MV()LD()AO()]\n[b##blk_terminus]\n")
 MESSY = MESSY.replace("[b#é😀x##blk_inst:MV()LD()AO()]\n", "% é 😀 %[b##blk_inst:MV()LD()AO()]\n")
 OPTIONS = lsp.FormattingOptions(tab_size=4, insert_spaces=True)
 
@@ -24,7 +25,8 @@ async def test_format_document(client):
     assert apply_edits(doc.text, doc, list(edits)) == format_text(MESSY).text
     # Formatted text formats to nothing.
     await doc.set_text(format_text(MESSY).text)
-    assert not await client.text_document_formatting_async(lsp.DocumentFormattingParams(doc.id, OPTIONS))
+    assert not await client.text_document_formatting_async(
+        lsp.DocumentFormattingParams(doc.id, OPTIONS))
 
 
 async def test_format_range(client):
@@ -39,6 +41,8 @@ async def test_format_range(client):
 
 
 async def test_no_edit_for_a_text_that_does_not_parse(client):
-    doc = await Doc.open(client, "fmt-broken.script", "[a]\n[goal:g]\n[action]\n[b##blk_inst: MV( LD() AO()]\n")
-    edits = await client.text_document_formatting_async(lsp.DocumentFormattingParams(doc.id, OPTIONS))
+    doc = await Doc.open(client, "fmt-broken.script",
+                         "[a]\n[goal:g]\n[action]\n[b##blk_inst: MV( LD() AO()]\n")
+    edits = await client.text_document_formatting_async(
+        lsp.DocumentFormattingParams(doc.id, OPTIONS))
     assert not edits

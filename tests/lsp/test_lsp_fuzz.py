@@ -186,7 +186,8 @@ async def test_requests_at_impossible_positions(client):
             lsp.InlayHintParams(doc, lsp.Range(position, lsp.Position(0, 0))))
     # A document the server never saw.
     other = lsp.TextDocumentIdentifier("file:///never/opened.script")
-    assert await client.text_document_hover_async(lsp.HoverParams(other, lsp.Position(0, 0))) is None
+    assert await client.text_document_hover_async(
+        lsp.HoverParams(other, lsp.Position(0, 0))) is None
 
 
 async def test_typing_in_a_large_valid_script(client):
@@ -219,13 +220,15 @@ async def test_typing_in_a_large_valid_script(client):
         kind = rng.random()
         if kind < 0.45:
             change = lsp.TextDocumentContentChangePartial(
-                range=lsp.Range(lsp.Position(line, col), lsp.Position(line, col)), text=str(rng.randint(0, 9)))
+                range=lsp.Range(lsp.Position(line, col), lsp.Position(line, col)),
+                text=str(rng.randint(0, 9)))
         elif kind < 0.9:
             change = lsp.TextDocumentContentChangePartial(
                 range=lsp.Range(lsp.Position(line, col), lsp.Position(line, col + 1)), text="")
         else:
             change = lsp.TextDocumentContentChangePartial(
-                range=lsp.Range(lsp.Position(line, 0), lsp.Position(line, 0)), text=rng.choice(["  ", "% c %", "\n"]))
+                range=lsp.Range(lsp.Position(line, 0), lsp.Position(line, 0)),
+                text=rng.choice(["  ", "% c %", "\n"]))
         model.apply(change)
         version += 1
         client.text_document_did_change(lsp.DidChangeTextDocumentParams(

@@ -17,7 +17,8 @@ TEXT = """\
 [goal:wave]
   [action]
     [b#start#blk_inst: MV("0.25, 0, 0, 0, 1500") LD("1, 0, 0, 1, 500, 2000") AO()]
-    [b##blk_jump: CND({CLASS #Human U ?kid (B: near(2))} ! {E: gt(?kid>&permanencetime, 10)}) TRJMP(start) FLSJMP(end)]
+    [b##blk_jump: CND({CLASS #Human U ?kid (B: near(2))} ! {E: gt(?kid>&permanencetime, 10)})
+                  TRJMP(start) FLSJMP(end)]
     [b#end#blk_terminus]   % scriptc: ignore[F003] %
 """
 
@@ -70,5 +71,5 @@ async def test_code_in_a_suppression_comment(doc):
 async def test_activity_and_nothing_between_items(doc):
     h = await hover(doc, "greet", 2)
     assert h.contents.value == "**activity** `greet`: 1 goal, 3 blocks"
-    blank = lsp.HoverParams(doc.id, lsp.Position(7, 26))  # the spaces before the comment
+    blank = lsp.HoverParams(doc.id, lsp.Position(8, 26))  # the spaces before the comment
     assert await doc.client.text_document_hover_async(blank) is None

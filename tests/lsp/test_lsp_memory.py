@@ -105,7 +105,8 @@ for n in range(200, 200 + EDITS):
     edit(n)
 freed = settle()
 grown = len(gc.get_objects()) + gc.get_freeze_count() - alive
-print(json.dumps({"freed": freed, "grown": grown, "futures": len(server.protocol._request_futures)}))
+futures = len(server.protocol._request_futures)
+print(json.dumps({"freed": freed, "grown": grown, "futures": futures}))
 '''
 
 EDITS = 400

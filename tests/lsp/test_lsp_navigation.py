@@ -17,7 +17,8 @@ TEXT = """\
 [goal:wave]
   [action]
     [b#loop#blk_inst: MV() LD() AO("Silence, 0, 100")]
-    [b##blk_jump: CND({CLASS #Human U ?kid ()} ! {E: gt(?kid>&permanencetime, 10)}) TRJMP(loop) FLSJMP(end)]
+    [b##blk_jump: CND({CLASS #Human U ?kid ()} ! {E: gt(?kid>&permanencetime, 10)})
+                  TRJMP(loop) FLSJMP(end)]
     [b##blk_jump: CND(! {E: lt(?kid>&positionrho, 2)}) TRJMP(end) FLSJMP(loop)]
     [b#end#blk_terminus]
 """
@@ -52,11 +53,11 @@ async def test_references(doc):
     found = await doc.client.text_document_references_async(lsp.ReferenceParams(
         text_document=doc.id, position=doc.at("b#end#", 4),
         context=lsp.ReferenceContext(include_declaration=True)))
-    assert texts(doc, found) == [(6, "end"), (7, "end"), (8, "end")]
+    assert texts(doc, found) == [(7, "end"), (8, "end"), (9, "end")]
     found = await doc.client.text_document_references_async(lsp.ReferenceParams(
         text_document=doc.id, position=doc.at("b#end#", 4),
         context=lsp.ReferenceContext(include_declaration=False)))
-    assert texts(doc, found) == [(6, "end"), (7, "end")]
+    assert texts(doc, found) == [(7, "end"), (8, "end")]
 
 
 async def test_rename_a_label(doc):

@@ -55,7 +55,8 @@ async def test_rename_lands_on_the_names(client):
 async def test_completion_range_after_emoji(client):
     doc = await Doc.open(client, "utf16-complete.script", TEXT)
     at = doc.text.index("TRJMP(strat") + len("TRJMP(str")
-    result = await client.text_document_completion_async(lsp.CompletionParams(doc.id, doc.position(at)))
+    result = await client.text_document_completion_async(
+        lsp.CompletionParams(doc.id, doc.position(at)))
     (first, *_) = result.items
     assert doc.range_text(first.text_edit.range) == "str"
 
@@ -73,10 +74,12 @@ async def test_edits_with_emoji_and_split_pairs(client):
     doc.version += 1
     client.text_document_did_change(lsp.DidChangeTextDocumentParams(
         text_document=lsp.VersionedTextDocumentIdentifier(uri=doc.uri, version=doc.version),
-        content_changes=[lsp.TextDocumentContentChangePartial(range=lsp.Range(mid, mid), text="X")]))
+        content_changes=[lsp.TextDocumentContentChangePartial(range=lsp.Range(mid, mid),
+                                                              text="X")]))
     units = doc.text.encode("utf-16-le", "surrogatepass")
     cut = (len(doc.text[:first].encode("utf-16-le", "surrogatepass")) // 2 + 1) * 2
-    doc.text = (units[:cut] + "X".encode("utf-16-le") + units[cut:]).decode("utf-16-le", "surrogatepass")
+    split = units[:cut] + "X".encode("utf-16-le") + units[cut:]
+    doc.text = split.decode("utf-16-le", "surrogatepass")
     got = await doc.diagnostics()
     expected = [(d.code, d.message) for d in analyze_script(SourceFile("x", doc.text)).diagnostics]
     assert [(d.code, d.message) for d in got] == expected

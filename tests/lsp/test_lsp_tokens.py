@@ -14,7 +14,8 @@ TEXT = """\
 [greet]
 [goal:wave]
   [action]
-    [b#ask#blk_jump: CND({CLASS #Human U ?kid (?THIS>&positionrho OP< 1.5)} ! {E: gt(?kid>&permanencetime, 2)}) TRJMP(ask) FLSJMP()]
+    [b#ask#blk_jump: CND({CLASS #Human U ?kid (?THIS>&positionrho OP< 1.5)}
+                         ! {E: gt(?kid>&permanencetime, 2)}) TRJMP(ask) FLSJMP()]
 """
 
 
@@ -37,11 +38,13 @@ async def test_full(doc, client):
     assert ("positionrho", "property", []) in tokens
     assert ("gt", "function", ["defaultLibrary"]) in tokens
     assert ("OP<", "operator", []) in tokens
-    assert tokens[-3:] == [("TRJMP", "keyword", []), ("ask", "label", []), ("FLSJMP", "keyword", [])]
+    assert tokens[-3:] == [("TRJMP", "keyword", []), ("ask", "label", []),
+                           ("FLSJMP", "keyword", [])]
 
 
 async def test_range(doc, client):
     rng = lsp.Range(lsp.Position(2, 0), lsp.Position(3, 10))
     result = await client.text_document_semantic_tokens_range_async(
         lsp.SemanticTokensRangeParams(doc.id, rng))
-    assert [t[0] for t in decode(legend(client), doc, list(result.data))] == ["goal", "wave", "action"]
+    decoded = decode(legend(client), doc, list(result.data))
+    assert [t[0] for t in decoded] == ["goal", "wave", "action"]
