@@ -25,7 +25,6 @@ from __future__ import annotations
 import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any
 
 from scriptc.diagnostics.edits import minimal_edit
 from scriptc.diagnostics.model import Diagnostic, TextEdit
@@ -41,15 +40,14 @@ from scriptc.emit.printer import (
     tokens,
 )
 from scriptc.source import Span
+
+# The parse trees come from `scriptc.syntax` (lark's Tree and Token, named by its one door to
+# lark): a tree has `data` and `children`, a token is a `str` with a `type`.
+from scriptc.syntax.larkshim import Child, ParseTree, Token, Tree
 from scriptc.syntax.parser import ParsedItem, parse_items
 from scriptc.syntax.scan import scan
 
-# The parse trees come from `scriptc.syntax` (lark's Tree and Token); lark stays in that
-# package's room, so they are read here by their attributes: a tree has `data` and `children`,
-# a token is a `str` with a `type`.
-Tree = Any  # noqa: N816 - a name for documentation only
-
-__all__ = ["FormatResult", "FormatterError", "LINE_WIDTH", "format_text", "format_range"]
+__all__ = ["LINE_WIDTH", "FormatResult", "FormatterError", "format_range", "format_text"]
 
 _BREAK = re.compile(r"\r\n|\r|\n")
 
@@ -202,7 +200,7 @@ class _Layout:
                 and _blank_free(text, boundary, span.start, leading)
                 and not _overlaps(problems, boundary, region_end)
             )
-            if not clean:
+            if item is None or not clean:
                 # Kept as it is. The region ends at the item's last character: the blanks
                 # and comments after it belong to the next region, which counts the line
                 # breaks in them.
@@ -299,11 +297,11 @@ def _overlaps(problems: list[Span], start: int, end: int) -> bool:
     return any(p.start <= end and p.end >= start for p in problems)
 
 
-def _kind(tree: Tree) -> str:
+def _kind(tree: ParseTree) -> str:
     return str(tree.data).rsplit("__", 1)[-1]
 
 
-def _indent(tree: Tree) -> str:
+def _indent(tree: ParseTree) -> str:
     kind = _kind(tree)
     if kind == "block":
         return BLOCK_INDENT
@@ -371,11 +369,11 @@ def _normalize_commands(toks: list[Tok]) -> None:
             tok.text = _normalize_command(track, tok.text)
 
 
-def _body_kind(tree: Tree) -> str:
+def _body_kind(tree: ParseTree) -> str:
     if _kind(tree) != "block":
         return ""
     body = tree.children[1]
-    return _kind(body) if hasattr(body, "data") else ""
+    return _kind(body) if isinstance(body, Tree) else ""
 
 
 def _render_item(text: str, item: ParsedItem, column: int, nl: str) -> str:
@@ -397,17 +395,17 @@ def _render_item(text: str, item: ParsedItem, column: int, nl: str) -> str:
 # Checks: the formatted text must mean what the original meant.
 
 
-def _same_tree(a: Tree, b: Tree) -> bool:
+def _same_tree(a: ParseTree, b: ParseTree) -> bool:
     """Trees equal in structure and token text; command strings compared after the
     formatter's own normalization (which `_normalize_command` documents)."""
-    stack = [(a, b, None)]
+    stack: list[tuple[Child, Child, str | None]] = [(a, b, None)]
     while stack:
         x, y, track = stack.pop()
         if x is None or y is None:
             if x is not y:
                 return False
-        elif isinstance(x, str):
-            if not isinstance(y, str) or x.type != y.type:
+        elif isinstance(x, Token):
+            if not isinstance(y, Token) or x.type != y.type:
                 return False
             sx, sy = str(x), str(y)
             if track is not None and x.type.endswith("STRING"):
@@ -415,10 +413,10 @@ def _same_tree(a: Tree, b: Tree) -> bool:
             if sx != sy:
                 return False
         else:
-            if isinstance(y, str) or x.data != y.data or len(x.children) != len(y.children):
+            if isinstance(y, Token) or x.data != y.data or len(x.children) != len(y.children):
                 return False
             inner = str(x.children[0]) if _kind(x) == "track" and x.children else None
-            stack.extend((p, q, inner) for p, q in zip(x.children, y.children))
+            stack.extend((p, q, inner) for p, q in zip(x.children, y.children, strict=True))
     return True
 
 

@@ -15,7 +15,6 @@ import gc
 from collections.abc import Iterator
 from contextlib import contextmanager
 
-
 # The net count of objects a pause may leave in the youngest generation before they are moved
 # on at once (below): a script of a few hundred lines leaves fewer.
 PROMOTE_AT = 10_000

@@ -32,10 +32,22 @@ import signal
 import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
+from types import FrameType
 
 EXIT_STATUS = 130
 
-_requested = False
+
+class _Request:
+    """Whether a stop was requested: set by `request()` and by the SIGINT handler, cleared by
+    `catching()`, read by `check()`."""
+
+    __slots__ = ("pending",)
+
+    def __init__(self) -> None:
+        self.pending = False
+
+
+_request = _Request()
 
 
 class Interrupted(Exception):
@@ -44,34 +56,31 @@ class Interrupted(Exception):
 
 def requested() -> bool:
     """Whether Ctrl-C was pressed (inside `catching()`) or `request()` was called."""
-    return _requested
+    return _request.pending
 
 
 def request() -> None:
     """Ask the work to stop at its next `check()`."""
-    global _requested
-    _requested = True
+    _request.pending = True
 
 
 def check() -> None:
     """Raise `Interrupted` when a stop was requested (cheap: call it as often as needed)."""
-    if _requested:
+    if _request.pending:
         raise Interrupted("interrupted (Ctrl-C)")
 
 
-def _on_sigint(signum, frame) -> None:
-    global _requested
-    if _requested:  # the second Ctrl-C: the user does not want to wait for a safe point
+def _on_sigint(signum: int, frame: FrameType | None) -> None:
+    if _request.pending:  # the second Ctrl-C: the user does not want to wait for a safe point
         raise KeyboardInterrupt
-    _requested = True
+    _request.pending = True
 
 
 @contextmanager
 def catching() -> Iterator[None]:
     """Within the block, Ctrl-C is a request taken by `check()` (see the module's docstring).
     The request is cleared on entry and on exit, and the previous SIGINT handler restored."""
-    global _requested
-    _requested = False
+    _request.pending = False
     previous = None
     if threading.current_thread() is threading.main_thread():
         try:
@@ -83,7 +92,7 @@ def catching() -> Iterator[None]:
     finally:
         if previous is not None:
             signal.signal(signal.SIGINT, previous)
-        _requested = False
+        _request.pending = False
 
 
 @contextmanager

@@ -75,8 +75,9 @@ _GRAMMARS = {name: grammar_path(name).read_text(encoding="utf-8")
 _CODE = {name: re.sub(r"//[^\n]*", "", text) for name, text in _GRAMMARS.items()}
 # Each grammar's terminals (`NAME: /.../`, `ALFA: "alfa"`, `ALIAS: "?" NAME`): one regex for
 # all of them, since each compiled regex costs this module's import (on the lint path) time.
-_TERMINALS = {name: dict(re.findall(r"^([A-Z_]+)[ \t]*:[ \t]*(.*?)[ \t]*$", text, re.MULTILINE))
-              for name, text in _CODE.items()}
+_TERMINALS: dict[str, dict[str, str]] = {
+    name: dict(re.findall(r"^([A-Z_]+)[ \t]*:[ \t]*(.*?)[ \t]*$", text, re.MULTILINE))
+    for name, text in _CODE.items()}
 
 
 def _definition(grammar: str, terminal: str) -> str:
@@ -248,7 +249,7 @@ FUNCTION_KINDS: Mapping[str, str] = {
 OPERATOR_PATTERN = _pattern("condition.lark", "OPERATOR")
 OPERATORS: Mapping[str, str] = {"OP=": "equal to", "OP<": "less than", "OP>": "greater than"}
 _WRITTEN = {f"OP{chr(c)}" for c in range(33, 127) if re.fullmatch(OPERATOR_PATTERN, f"OP{chr(c)}")}
-if _WRITTEN != set(OPERATORS):  # the grammar grew (or lost) a comparison: say what it means
+if set(OPERATORS) != _WRITTEN:  # the grammar grew (or lost) a comparison: say what it means
     raise RuntimeError(f"the OPERATOR terminal writes {sorted(_WRITTEN)}, "
                        f"the language knows {sorted(OPERATORS)}")
 

@@ -28,8 +28,17 @@ import math
 import sys
 from typing import Any
 
-__all__ = ["LARGEST", "MAX_DIGITS", "NumberError", "NonFiniteOutput", "number_problem", "shown",
-           "json_number", "whole_number", "json_dumps"]
+__all__ = [
+    "LARGEST",
+    "MAX_DIGITS",
+    "NonFiniteOutput",
+    "NumberError",
+    "json_dumps",
+    "json_number",
+    "number_problem",
+    "shown",
+    "whole_number",
+]
 
 LARGEST = sys.float_info.max
 # Digits of the largest integer a double holds (LARGEST is 309 digits long): an integer

@@ -68,7 +68,7 @@ class Position:
 class SourceFile:
     """The text of one file and the name it is shown under."""
 
-    __slots__ = ("path", "text", "__dict__")
+    __slots__ = ("__dict__", "path", "text")
 
     def __init__(self, path: str, text: str) -> None:
         self.path = path

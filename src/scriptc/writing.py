@@ -28,7 +28,8 @@ import stat
 import sys
 import threading
 from collections.abc import Iterator
-from contextlib import contextmanager
+from contextlib import contextmanager, suppress
+from typing import BinaryIO
 
 from scriptc.interrupt import deferred
 
@@ -121,7 +122,7 @@ def write_file(path: str, data: str | bytes, *, exclusive: bool = False) -> None
                 create_file(target, data)
             else:
                 replace_file(target, data, keep=st)
-        elif stat.S_ISSOCK(st.st_mode):
+        elif st is not None and stat.S_ISSOCK(st.st_mode):  # (direct: st is known)
             _send(target, data)
         else:
             # A device, a FIFO, a descriptor: its reader gets the bytes; it is never replaced
@@ -134,7 +135,7 @@ def write_file(path: str, data: str | bytes, *, exclusive: bool = False) -> None
         raise WriteError(f"cannot write `{path}`: {_reason(exc)}") from None
 
 
-def _write_all(f, data: bytes) -> None:
+def _write_all(f: BinaryIO, data: bytes) -> None:
     view = memoryview(data)
     while view:
         view = view[f.write(view):]
@@ -165,7 +166,7 @@ _lock = threading.Lock()
 
 def _new_file_mode() -> int:
     """0666 less the umask: what `open` gives a new file (read once per process)."""
-    global _umask
+    global _umask  # noqa: PLW0603  # the process's umask, read once (tests clear it)
     if _umask is None:
         with _lock:
             _umask = os.umask(0)
@@ -193,10 +194,8 @@ def _temporary_copy(target: str, data: bytes, mode: int, durable: bool = True
             os.chmod(tmp, mode)
             yield tmp
         finally:
-            try:
+            with suppress(OSError):  # renamed into place already
                 os.unlink(tmp)
-            except OSError:
-                pass  # renamed into place already
 
 
 def replace_file(target: str, data: bytes, *, durable: bool = True,
