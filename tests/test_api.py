@@ -170,7 +170,7 @@ def test_commands_are_type_checked():
     with pytest.raises(ValueError, match="move"):
         Activity("a").goal("g").action().instruction(moves=[led(0, 0, 0, duration=1)])
     with pytest.raises(ValueError, match="condition"):
-        Activity("a").goal("g").action().jump(None)  # type: ignore[arg-type]
+        Activity("a").goal("g").action().jump(None)  # type: ignore[arg-type]  # on purpose
 
 
 # ---------------------------------------------------------------------------------------------
@@ -189,7 +189,7 @@ def test_numbers_keep_their_text(value, text):
                                    Decimal("NaN"), True, None, "", "1,2", [1]])
 def test_bad_numbers_are_refused(value):
     with pytest.raises(ValueError):
-        number_text(value)  # type: ignore[arg-type]
+        number_text(value)  # type: ignore[arg-type]  # wrong types on purpose
 
 
 def test_a_number_text_reaches_the_json_as_written():

@@ -529,7 +529,9 @@ def test_inconsistent_tables(program: Program) -> None:
 
 
 def test_number_constants_must_be_finite_and_match_their_text() -> None:
-    end = lambda asm: asm.emit("END")  # noqa: E731
+    def end(asm: Assembler) -> None:
+        asm.emit("END")
+
     invalid(one_block(end, "T", constants=("a", Num(2.0, "1"))), "does not match its text")
     invalid(one_block(end, "T", constants=("a", Num(float("inf"), "inf"))), "not a finite")
 

@@ -28,7 +28,7 @@ from scriptc.source import SourceFile
 ROOT = Path(__file__).parent.parent
 sys.path.insert(0, str(ROOT / "bench"))
 
-from generate import big_script  # noqa: E402
+from generate import big_script  # noqa: E402 - after the path to bench/ is set
 
 FAST = settings(max_examples=80, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 MANY = settings(max_examples=500, deadline=None,

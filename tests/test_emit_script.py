@@ -86,7 +86,9 @@ def test_format_of_listing_4_1() -> None:
 
 
 def test_format_blocks() -> None:
-    name = lambda t: ir.Name(t, S)  # noqa: E731
+    def name(text: str) -> ir.Name:
+        return ir.Name(text, S)
+
     assert format_block(ir.SensorBlock(None, (), S)) == "[b##blk_sens]"
     payload = (ir.Text('a "b"', S), ir.Text("c\\d", S))
     assert format_block(ir.SensorBlock(name("s"), payload, S)) == \

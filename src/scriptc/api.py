@@ -345,13 +345,13 @@ class Built(Analysis):
         """The thesis JSON text; raises BuildError when the script has errors."""
         from scriptc.ops.build import emit
 
-        return emit(self._checked(), "json")  # type: ignore[return-value]
+        return emit(self._checked(), "json")
 
     def bytecode(self) -> bytes:
         """The `.scb` bytecode; raises BuildError when the script has errors."""
         from scriptc.ops.build import emit
 
-        return emit(self._checked(), "bytecode", self.source)  # type: ignore[return-value]
+        return emit(self._checked(), "bytecode", self.source)
 
 
 def build_text(text: str, path: str = "<generated>.script", *,

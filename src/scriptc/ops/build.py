@@ -7,6 +7,7 @@ syntax for a script read from thesis JSON (`decompile`).
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import Literal, overload
 
 from scriptc.analysis.analyze import Analysis, analyze_bytes, analyze_file
 from scriptc.gcpause import gc_paused
@@ -48,6 +49,14 @@ def read_configured(path: str, kind: SourceKind, setup: Setup, *,
     return analysis
 
 
+@overload
+def emit(script: Script, back_end: Literal["json"] = "json", source: SourceFile | None = None
+         ) -> str: ...
+@overload
+def emit(script: Script, back_end: Literal["bytecode"], source: SourceFile | None = None
+         ) -> bytes: ...
+@overload
+def emit(script: Script, back_end: str, source: SourceFile | None = None) -> str | bytes: ...
 def emit(script: Script, back_end: str = "json", source: SourceFile | None = None
          ) -> str | bytes:
     """The output of one back end for a checked script: text (json) or bytes (bytecode).
