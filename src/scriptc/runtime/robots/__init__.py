@@ -5,8 +5,9 @@ speeds from `t_ms` on, m/s and rad/s), `advance(t_ms)` (bring the simulation up 
 `pose()` (world frame: metres and radians, starting at the origin facing +x; `theta` is not
 wrapped, so a full turn reads 2π), and `ghost()`, a copy that moves on its own: advanced to a
 later millisecond, it says where the robot will be then without moving the robot (a session
-observes the state between two instants so: `scriptc test`'s `at`). Times only grow; the session calls `set_velocity` only when
-the effective velocity changes, so a backend sees O(events) calls, never one per millisecond.
+observes the state between two instants so: `scriptc test`'s `at`). Times only grow; the
+session calls `set_velocity` only when the effective velocity changes, so a backend sees
+O(events) calls, never one per millisecond.
 
 Without `ramp` the velocity changes at once. With `ramp` (a `motion.Ramp` of the safety
 governor, whose target the velocity is, and which starts from the velocity the robot has) each
