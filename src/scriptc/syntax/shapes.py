@@ -21,8 +21,8 @@ it has seen with one regex match per token and builds lark's own tree from a tem
   code building the `Tree`) the second time the shape is met.
 - **Errors are lark's.** Anything the trie and the table parse do not accept is handed to lark
   itself, which raises the `UnexpectedInput` that `parser.describe` words: messages are those of
-  lark's parser, exactly. Attributes other than `parse` (the terminals `describe` reads) are
-  lark's.
+  lark's parser, exactly. Beside `parse`, the parser gives lark's `terminals` (which
+  `describe` reads): it is a `parser.ItemParser`.
 
 The trie is bounded (`MAX_NODES`): past it, it is dropped and starts again; items of more than
 `MAX_SHAPE_TOKENS` tokens are parsed and not recorded. tests/
