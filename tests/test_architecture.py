@@ -39,8 +39,9 @@ def test_every_module_is_named_in_its_section() -> None:
         text = named[f"`{package}/`"]
         for module in sorted((PACKAGE / package).rglob("*.py")):
             if module.name == "__init__.py":
-                if module.parent != PACKAGE / package and f"`{module.parent.name}/`" not in text:
-                    missing.append(str(module.parent.relative_to(PACKAGE)) + "/")
+                folder = module.parent.relative_to(PACKAGE).as_posix() + "/"
+                if module.parent != PACKAGE / package and f"`{folder}`" not in text:
+                    missing.append(folder)
                 continue
             if f"`{module.name}`" not in text and f"`{module.stem}`" not in text:
                 missing.append(str(module.relative_to(PACKAGE)))

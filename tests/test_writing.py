@@ -364,11 +364,6 @@ def test_a_new_file_gets_the_usual_mode(tmp_path: Path) -> None:
     assert stat.S_IMODE((tmp_path / "new.txt").stat().st_mode) == 0o640
 
 
-def test_the_byte_order_mark_is_kept() -> None:
-    assert writing.encode_like("é", b"\xef\xbb\xbfold") == b"\xef\xbb\xbf\xc3\xa9"
-    assert writing.encode_like("é", b"old") == b"\xc3\xa9"
-
-
 def test_nothing_else_in_scriptc_writes_files() -> None:
     """Every write of a file goes through `scriptc.writing`: no other module replaces,
     creates or opens a file for writing."""
