@@ -27,10 +27,11 @@ the turn (`v_theta`).
 
 from __future__ import annotations
 
+import copy
 import math
 from bisect import bisect_right
 from collections.abc import Iterable, Sequence
-from typing import NamedTuple
+from typing import NamedTuple, Self
 
 from scriptc.robot.profile import Profile
 
@@ -554,6 +555,13 @@ class Kinematics:
 
     def pose(self) -> Pose:
         return Pose(self._x, self._y, self._theta)
+
+    def ghost(self) -> Self:
+        """A copy that moves on its own: where the robot will be at a later millisecond,
+        without moving it (advancing the robot itself there would cut its arcs in other places,
+        and the closed forms would round differently). Its state is immutable values, so a
+        shallow copy is a whole one."""
+        return copy.copy(self)
 
     @property
     def velocity(self) -> Velocity:

@@ -36,6 +36,7 @@ clamp: it changes nothing of where the robot goes (docs/robot.md, "In the trace"
 
 from __future__ import annotations
 
+import copy
 import math
 from collections import deque
 from collections.abc import Callable, Iterable
@@ -253,6 +254,20 @@ class Governor:
 
     def pose(self) -> Pose:
         return self.robot.pose()
+
+    def ghost(self) -> Governor:
+        """A copy that moves on its own (`Robot.ghost`): its own backend ghost and plan, the
+        same limits and people, no trace and no LEDs shown; the robot where it will be at a
+        later millisecond, the plan's centred ramps played there, without moving this one."""
+        twin = Governor.__new__(Governor)  # not copy.copy: `__getattr__` forwards to `robot`
+        twin.__dict__.update(self.__dict__)
+        twin.robot = self.robot.ghost()
+        twin.shaper = copy.deepcopy(self.shaper)
+        twin.trace = None
+        twin.reasons = dict(self.reasons)
+        twin._onsets = deque(self._onsets)
+        twin._show = None
+        return twin
 
     def end_instant(self, t_ms: int, led: Rgb | None) -> None:
         """The end of the instant `t_ms` (the session calls it after each): apply the pending

@@ -36,7 +36,9 @@ instants or between two chunks of physics; the trace holds every instant before)
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import contextlib
+from collections.abc import Iterable
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, TypedDict
 
 from scriptc import interrupt
@@ -61,6 +63,29 @@ if TYPE_CHECKING:  # made by the session only when a run has them (imported ther
 # Loops at one instant before the session gives up: a cycle of jumps and blocks that take no
 # time, or rules that keep raising work, never let time pass.
 MAX_LOOPS_PER_INSTANT = 10_000
+
+
+@dataclass(frozen=True, slots=True)
+class Observation:
+    """The robot's outputs at one millisecond `t`, after everything that happens at it (a
+    test's `at`; docs/runtime.md, "Observing a run"): where it is, the colour its LEDs show
+    (None: off; with the governor, what the flash limit lets it show), the audio track that
+    plays (None: none, or paused while the block is frozen), and the instruction block running
+    (issued, not yet consumed: its `label`, "" for a block without one, its `path` and its
+    `script`; all None when none runs)."""
+
+    t: int
+    pose: Pose
+    led: tuple[float, float, float] | None
+    audio: str | None
+    block: str | None
+    path: str | None
+    script: str | None
+
+    def as_dict(self) -> dict[str, object]:
+        return {"t": self.t, "pose": self.pose.as_dict(),
+                "led": None if self.led is None else list(self.led), "audio": self.audio,
+                "block": self.block, "path": self.path, "script": self.script}
 
 
 class GovernorSummary(TypedDict):
@@ -89,6 +114,10 @@ class RunResult:
     # With the governor: how many times it intervened (`governor` trace events), and how many
     # of them for each reason (an event may have two: a speed clamped and ramped).
     governor: GovernorSummary | None = None
+    # The state at each millisecond `run` was asked to observe that the run reached, in time
+    # order, and at the end (the robot at rest; None when interrupted).
+    observations: list[Observation] = field(default_factory=list)
+    final: Observation | None = None
 
     def as_dict(self) -> dict[str, object]:
         data: dict[str, object] = {
@@ -143,10 +172,18 @@ class Loop:
         # (its closed form would round differently if cut in more pieces).
         self._stepped = robot if is_stepped(robot) else None
         self._catch_up = self._stepped is not None
+        # The milliseconds still to observe (latest first) and the states observed (`run`).
+        self._probes: list[int] = []
+        self._observed: list[Observation] = []
 
-    def run(self, until: int | None = None) -> RunResult:
-        """Run to the end (see the module's docstring); `until` caps simulated time (ms)."""
+    def run(self, until: int | None = None, observe: Iterable[int] = ()) -> RunResult:
+        """Run to the end (see the module's docstring); `until` caps simulated time (ms). The
+        state at each millisecond of `observe` is recorded (`RunResult.observations`) when the
+        run reaches it, after everything that happens at it; observing changes nothing of the
+        run (the robot is looked ahead through a ghost, `Robot.ghost`)."""
         status, trace, queue, governor = self.status, self.trace, self.queue, self.governor
+        self._probes = sorted(set(observe), reverse=True)
+        self._observed = []
         governed: dict[str, object] = {}
         if governor is not None:  # the limits the governor keeps, as the trace's header
             governed["profile"] = governor.profile.limits()
@@ -172,6 +209,9 @@ class Loop:
             except RobotFailure as exc:
                 status.fatal(status.now, ROBOT_UNSTABLE, str(exc))
                 failed = True
+            # The instants the run reached after its last one (to `until`, or the instant it
+            # ended at), before the robot brakes.
+            self._observe(status.now)
             try:
                 self.robot.advance(status.now)
                 if governor is not None and not failed:
@@ -186,10 +226,12 @@ class Loop:
         pose = self.robot.pose()
         trace.emit(status.now, "session_end", outcome=status.outcome, time_ms=status.now,
                    pose=pose.as_dict(), **settled)
+        final = None if status.outcome == "interrupted" else self._state(status.now, pose)
         return RunResult(status.outcome, status.now, pose, self.scripts.loads, trace.errors,
                          trace.count, trace, settled.get("at_rest_ms"),
                          None if governor is None else
-                         GovernorSummary(clamps=governor.clamps, reasons=dict(governor.reasons)))
+                         GovernorSummary(clamps=governor.clamps, reasons=dict(governor.reasons)),
+                         self._observed, final)
 
     def _instants(self, until: int | None) -> None:
         """The instants, each in the same order (see the module's docstring): the physics up to
@@ -209,6 +251,8 @@ class Loop:
             if until is not None and t > until:
                 status.now, status.outcome = until, "until"
                 break
+            if self._probes and self._probes[-1] < t:
+                self._observe(t - 1)  # between the last instant and this one
             if self._catch_up:
                 robot.advance(t)
             happened = False
@@ -219,6 +263,8 @@ class Loop:
                 self._settle(t)
                 if self._show_outputs:
                     self._outputs()
+            if self._probes and self._probes[-1] == t:
+                self._observe(t)  # after everything at this instant
 
     def _settle(self, now: int) -> None:
         """Loop at `now` while there is something to do there, up to `max_loops` times."""
@@ -291,6 +337,39 @@ class Loop:
         the session (nothing of the script changed), so the handler says nothing happened."""
         governor.wake_led(now, self.actuators.led)
         return False
+
+    # -- observing the state (a test's `at`) ----------------------------------------------------
+
+    def _observe(self, through: int) -> None:
+        """Record the state at each millisecond to observe up to `through`: no instant falls
+        between the last one handled and `through`, so each is that instant's state with the
+        robot looked ahead to its millisecond."""
+        probes = self._probes
+        while probes and probes[-1] <= through:
+            t = probes.pop()
+            self._observed.append(self._state(t, self._pose_at(t)))
+
+    def _pose_at(self, t: int) -> Pose:
+        """Where the robot is at `t` (at or after the physics' time), from a ghost that moves
+        on its own: advancing the robot itself would cut its motion at `t` and round it
+        differently from the run that is not observed."""
+        ghost = self.robot.ghost()
+        # A failure of the physics: the run itself meets it and reports it; the ghost got
+        # as far as it could.
+        with contextlib.suppress(RobotFailure):
+            ghost.advance(t)
+        return ghost.pose()
+
+    def _state(self, t: int, pose: Pose) -> Observation:
+        actuators, scripts = self.actuators, self.scripts
+        led = actuators.led if self.governor is None else self.governor.led_shown
+        audio = None if actuators.audio_paused else actuators.audio
+        running = actuators.block_active and scripts.executor is not None
+        return Observation(
+            t, pose, None if led is None else (led[0], led[1], led[2]), audio,
+            scripts.issued_label if running else None,
+            scripts.issued_path if running else None,
+            scripts.executor.name if running and scripts.executor is not None else None)
 
     # -- the end of an instant, and of an interrupted run ---------------------------------------
 

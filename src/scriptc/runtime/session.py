@@ -23,6 +23,7 @@ the same semantics; `Session` is the arrangement `scriptc run` uses.
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from typing import TYPE_CHECKING
 
 from scriptc.runtime.actuators import Actuators
@@ -33,7 +34,7 @@ from scriptc.runtime.executor import Loadable
 from scriptc.runtime.functions import STANDARD_IMPLEMENTATIONS, Implementations
 from scriptc.runtime.goals import Goals
 from scriptc.runtime.loading import Loader, LoadError
-from scriptc.runtime.loop import MAX_LOOPS_PER_INSTANT, Loop, RunResult
+from scriptc.runtime.loop import MAX_LOOPS_PER_INSTANT, Loop, Observation, RunResult
 from scriptc.runtime.mutex import Mutex, RuleEffects
 from scriptc.runtime.operator import Operator
 from scriptc.runtime.overrides import Overrides
@@ -52,7 +53,8 @@ if TYPE_CHECKING:  # imported when a run has them (below)
     from scriptc.runtime.governor import Governor
     from scriptc.runtime.sensing import Sensing
 
-__all__ = ["MAX_LOOPS_PER_INSTANT", "LoadError", "LoadRecord", "RunResult", "Session"]
+__all__ = ["MAX_LOOPS_PER_INSTANT", "LoadError", "LoadRecord", "Observation", "RunResult",
+           "Session"]
 
 
 class Session:
@@ -135,6 +137,7 @@ class Session:
             # only runs that hold LEDs get; its handler is not a loop of the session).
             governor.wake = lambda t: queue.push(t, PRIO_WAKE, self.loop.on_wake, governor)
 
-    def run(self, until: int | None = None) -> RunResult:
-        """Run to the end (runtime/loop.py); `until` caps simulated time (ms)."""
-        return self.loop.run(until)
+    def run(self, until: int | None = None, observe: Iterable[int] = ()) -> RunResult:
+        """Run to the end (runtime/loop.py); `until` caps simulated time (ms); the state at
+        each millisecond of `observe` the run reaches is in the result's `observations`."""
+        return self.loop.run(until, observe)
