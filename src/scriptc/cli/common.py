@@ -276,8 +276,9 @@ class Progress:
     """A rich progress bar on stderr, only on a terminal and only for many files (rich is
     imported then, and only then)."""
 
-    def __init__(self, quiet: bool = False) -> None:
+    def __init__(self, quiet: bool = False, label: str = "linting") -> None:
         self.enabled = not quiet and _stderr_is_terminal()
+        self.label = label  # what the bar says is under way
         self._bar: tuple[Bar, TaskID] | None = None  # the bar shown, and its one task
         self.done = self.total = 0  # the last figures, for the message of an interruption
 
@@ -298,7 +299,7 @@ class Progress:
             # No refresh thread (auto_refresh off, refreshed on each update): worker
             # processes are forked while the bar runs, and a fork must not copy a thread
             # that may hold a lock.
-            bar = Bar(TextColumn("linting"), BarColumn(), MofNCompleteColumn(),
+            bar = Bar(TextColumn(self.label), BarColumn(), MofNCompleteColumn(),
                       TimeRemainingColumn(), console=Console(stderr=True), transient=True,
                       auto_refresh=False)
             bar.start()

@@ -98,7 +98,7 @@ _Line = list[tuple[str, "str | None"]]
 
 # The ANSI select-graphic-rendition parameter of each word of a style: the eight standard
 # colours, which every terminal shows in its own palette.
-_SGR = {"bold": "1", "red": "31", "yellow": "33", "blue": "34", "cyan": "36"}
+_SGR = {"bold": "1", "red": "31", "green": "32", "yellow": "33", "blue": "34", "cyan": "36"}
 
 
 def _cell(ch: str) -> tuple[str, int]:
@@ -295,6 +295,12 @@ def _text_lines(results: Results) -> list[_Line]:
     if lines:
         lines.append(_summary_line(results))
     return lines
+
+
+def paint(text: str, style: str) -> str:
+    """`text` in the ANSI colours of `style` (words of `_SGR`: "bold green"), for the other
+    lines of a verb's output that go with its diagnostics (`scriptc test`'s PASS and FAIL)."""
+    return _colour([[(text, style)]])[:-1]
 
 
 def _colour(lines: list[_Line]) -> str:

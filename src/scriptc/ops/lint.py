@@ -20,16 +20,17 @@ every run, and generating dataclass methods costs milliseconds of it.
 
 from __future__ import annotations
 
-import os
 from collections.abc import Callable
 from typing import TYPE_CHECKING, TypeAlias
 
-from scriptc import interrupt
 from scriptc.analysis.analyze import Analysis, analyze_source
 from scriptc.analysis.read import ReadError, decode_source, read_bytes
 from scriptc.diagnostics.edits import apply_fixes
 from scriptc.diagnostics.model import Diagnostic, has_errors
 from scriptc.encoding import encode_like
+from scriptc.ops.workers import PoolFailed, available_cores, map_chunks
+from scriptc.ops.workers import start_worker as _worker_start  # noqa: F401 (tests name it here)
+from scriptc.ops.workers import stop_workers as _stop_workers  # noqa: F401
 from scriptc.paths import shown_path
 from scriptc.project.files import discover
 from scriptc.project.setup import Setup, function_registry
@@ -37,8 +38,6 @@ from scriptc.source import SourceFile, SourceKind
 from scriptc.writing import WriteError, write_file
 
 if TYPE_CHECKING:  # types only: `scriptc lint` imports this module on every run
-    from concurrent.futures import ProcessPoolExecutor
-
     from scriptc.ir.builtins import Function
     from scriptc.project.cache import Cache
     from scriptc.project.config.load import ConfigFile
@@ -166,13 +165,6 @@ class LintRun:
         return sum(r.fixes(True) - r.fixes(False) for r in self.reports)
 
 
-def available_cores() -> int:
-    try:
-        return max(1, len(os.sched_getaffinity(0)))
-    except (AttributeError, OSError):
-        return max(1, os.cpu_count() or 1)
-
-
 # A task is one file to analyse, in a worker or here: (name, text, kind, the declared
 # functions' signatures, the robot profile). Plain data, cheap to send to a worker.
 Task: TypeAlias = "tuple[str, str, SourceKind, tuple[Function, ...], Profile]"
@@ -204,25 +196,16 @@ def _analyze_all(tasks: list[Task], jobs: int,
         try:
             _analyze_parallel(tasks, jobs, done)
             return
-        except _PoolFailed:
+        except PoolFailed:
             pass  # no worker processes here (a sandbox): one process does it all
     for i, task in enumerate(tasks):
         done(i, _analyze_task(task))
 
 
-class _PoolFailed(Exception):
-    pass
-
-
 def _analyze_parallel(tasks: list[Task], jobs: int,
                       done: Callable[[int, list[Diagnostic]], None]) -> None:
-    import multiprocessing
-    from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
     from concurrent.futures.process import BrokenProcessPool
 
-    # `fork` where the platform has it: the workers start with scriptc already imported.
-    methods = multiprocessing.get_all_start_methods()
-    context = multiprocessing.get_context("fork" if "fork" in methods else None)
     # Chunks of about 64 KB of text: few enough messages, small enough to balance the load
     # and to move the progress bar.
     chunks: list[list[int]] = [[]]
@@ -234,66 +217,20 @@ def _analyze_parallel(tasks: list[Task], jobs: int,
         chunks[-1].append(i)
         size += len(task[1])
     finished: set[int] = set()
+
+    def chunk_done(c: int, k: int, diagnostics: list[Diagnostic]) -> None:
+        i = chunks[c][k]
+        finished.add(i)
+        done(i, diagnostics)
+
     try:
-        pool = ProcessPoolExecutor(max_workers=min(jobs, len(chunks)), mp_context=context,
-                                   initializer=_worker_start)
-    except (OSError, ValueError, NotImplementedError) as exc:
-        raise _PoolFailed from exc
-    try:
-        # The workers are started by the first submissions; Ctrl-C is held back meanwhile,
-        # so that none starts before it ignores Ctrl-C (`_worker_start`).
-        with interrupt.deferred():
-            pending = {pool.submit(_analyze_chunk, [tasks[i] for i in chunk]): chunk
-                       for chunk in chunks}
-        while pending:
-            ready, _ = wait(pending, return_when=FIRST_COMPLETED)
-            for future in ready:
-                chunk = pending.pop(future)
-                for i, diagnostics in zip(chunk, future.result(), strict=True):  # one per task
-                    finished.add(i)
-                    done(i, diagnostics)
+        map_chunks(_analyze_chunk, [[tasks[i] for i in chunk] for chunk in chunks], jobs,
+                   chunk_done)
     except BrokenProcessPool:
         # A worker died (killed, out of memory): finish the rest here.
-        _stop_workers(pool)
         for i, task in enumerate(tasks):
             if i not in finished:
                 done(i, _analyze_task(task))
-    except BaseException:
-        # Ctrl-C (or a failure here): the workers are stopped now, not after their chunks.
-        _stop_workers(pool)
-        raise
-    else:
-        pool.shutdown(wait=True)
-
-
-def _worker_start() -> None:
-    """The start of a worker process: Ctrl-C is the parent's to handle (a terminal sends it to
-    every process of the command; the parent stops the workers). The worker was forked with
-    Ctrl-C and SIGTERM held back (`interrupt.deferred`): SIGTERM, by which the parent stops
-    it, must reach it again."""
-    import signal
-
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    if hasattr(signal, "pthread_sigmask"):
-        signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT, signal.SIGTERM})
-
-
-def _stop_workers(pool: ProcessPoolExecutor) -> None:
-    """Stop a process pool at once: pending work cancelled, the workers terminated and
-    waited for (none is left behind). `shutdown` alone would wait for the chunks already
-    running; the pool has no public way to terminate its workers before Python 3.14
-    (`terminate_workers`), so they are taken from its `_processes`."""
-    processes = list((getattr(pool, "_processes", None) or {}).values())
-    pool.shutdown(wait=False, cancel_futures=True)
-    for process in processes:
-        if process.is_alive():
-            process.terminate()
-    for process in processes:
-        process.join(timeout=5)
-        if process.is_alive():
-            process.kill()
-            process.join()
-    pool.shutdown(wait=True)
 
 
 MAX_FIX_ROUNDS = 10

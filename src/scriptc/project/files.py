@@ -189,8 +189,8 @@ class Walker:
 
 
 def discover(paths: list[str] | tuple[str, ...], kind: SourceKind = SourceKind.SCRIPT, *,
-             resolver: Resolver | None = None, force_exclude: bool = False
-             ) -> tuple[list[str], list[str]]:
+             resolver: Resolver | None = None, force_exclude: bool = False,
+             suffix: str | None = None) -> tuple[list[str], list[str]]:
     """The files `scriptc lint PATH...`, `scriptc check PATH...` and `scriptc fmt PATH...`
     read, in order, and the problems met finding them. A file named on the command line is
     read whatever its suffix; a folder contributes its `*.script` files (for thesis JSON:
@@ -200,11 +200,12 @@ def discover(paths: list[str] | tuple[str, ...], kind: SourceKind = SourceKind.S
     kept; a file reached twice is read once. A path that does not exist and a folder that
     cannot be read are problems, each named, and the other paths go on. With
     `force_exclude` the configuration's `exclude` applies to files named on the command line
-    too (for pre-commit, which names every changed file)."""
+    too (for pre-commit, which names every changed file). `suffix` is that of the files a
+    folder contributes instead (`.test.toml` for `scriptc test`)."""
     json = kind == SourceKind.JSON
     walker = Walker(resolver.for_folder if resolver is not None else None,
-                    suffix=".json" if json else SCRIPT_SUFFIX,
-                    accept=is_thesis_json if json else None)
+                    suffix=suffix or (".json" if json else SCRIPT_SUFFIX),
+                    accept=is_thesis_json if json and suffix is None else None)
     found: list[str] = []
     problems: list[str] = []
     seen: set[str] = set()

@@ -25,7 +25,7 @@ from __future__ import annotations
 import difflib
 import json
 import os
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from functools import cache
 from typing import TYPE_CHECKING
@@ -63,10 +63,14 @@ class ScenarioError(Exception):
     not be read at all."""
 
     def __init__(self, path: str, problems: list[str],
-                 positions: list[tuple[int, int] | None] | None = None) -> None:
+                 positions: list[tuple[int, int] | None] | None = None,
+                 spans: list[Span | None] | None = None) -> None:
         self.path = path
         self.problems = problems
         self.positions = positions if positions is not None else [None] * len(problems)
+        # Where each problem is as a span of the file's text (None: the file as a whole), for
+        # a reader that shows it in its source (a test file's `[world]` table).
+        self.spans = spans if spans is not None else [None] * len(problems)
         super().__init__(f"scenario `{path}`: " + "; ".join(problems))
 
     def lines(self) -> list[str]:
@@ -134,19 +138,20 @@ class _Problems:
         self.source = source
         self.messages: list[str] = []
         self.positions: list[tuple[int, int] | None] = []
-        self._order: list[int] = []
+        self.spans: list[Span] = []
 
     def add(self, where: str, message: str, span: Span) -> None:
         position = self.source.position(min(span.start, len(self.source.text)))
         self.messages.append(f"{where}: {message}" if where else message)
         self.positions.append((position.line, position.column))
-        self._order.append(span.start)
+        self.spans.append(span)
 
     def raise_if_any(self) -> None:
         if self.messages:
-            order = sorted(range(len(self.messages)), key=lambda i: self._order[i])
+            order = sorted(range(len(self.messages)), key=lambda i: self.spans[i].start)
             raise ScenarioError(self.source.path, [self.messages[i] for i in order],
-                                [self.positions[i] for i in order])
+                                [self.positions[i] for i in order],
+                                [self.spans[i] for i in order])
 
 
 def _shown(node: JsonNode, text: str) -> str:
@@ -243,7 +248,8 @@ def _forbidden(node: JsonNode) -> list[tuple[Member, str]]:
     return out
 
 
-def _update_span(item: JsonNode, exc: UpdateError, text: str) -> Span:
+def _update_span(item: JsonNode, exc: UpdateError, text: str,
+                 offsets: StringOffsets = string_offsets) -> Span:
     """Where an update's problem is: inside its jsonmsg when the map said where (a key of the
     record, a place in its text), else the field it is about."""
     member = item.member(exc.field)
@@ -251,9 +257,9 @@ def _update_span(item: JsonNode, exc: UpdateError, text: str) -> Span:
         return Span(item.start, item.start + 1)
     node = member.value
     if exc.span is not None and node.kind == "string":
-        offsets = string_offsets(text, node)
-        last = len(offsets) - 1
-        return Span(offsets[min(exc.span.start, last)], offsets[min(exc.span.end, last)])
+        where = offsets(text, node)
+        last = len(where) - 1
+        return Span(where[min(exc.span.start, last)], where[min(exc.span.end, last)])
     if exc.key is not None and node.kind == "object":
         inner = node.member(exc.key)
         if inner is not None:
@@ -272,6 +278,21 @@ def scenario_from_text(text: str, path: str = "<scenario>", folder: str | None =
     except JsonError as exc:
         raise ScenarioError(path, [exc.message], [(exc.line, exc.column)]) \
             from None
+    return scenario_from_tree(root, source, folder)
+
+
+# Where each character of a string value is in its document (`jsonpos.string_offsets` for
+# JSON): how a problem inside a `jsonmsg` given as text is pointed at.
+StringOffsets = Callable[[str, JsonNode], list[int]]
+
+
+def scenario_from_tree(root: JsonNode, source: SourceFile, folder: str | None = None, *,
+                       offsets: StringOffsets = string_offsets) -> Scenario:
+    """A scenario from a document already read with the positions of its values: a JSON
+    file's (`scenario_from_text`), or a table of another format given as the same nodes (a
+    test file's `[world]` table, with TOML's `offsets` of string characters). Checked as a
+    file is; raises ScenarioError."""
+    path, text = source.path, source.text
     problems = _Problems(source)
     _schema_problems(root, problems)
     problems.raise_if_any()
@@ -287,7 +308,7 @@ def scenario_from_text(text: str, path: str = "<scenario>", folder: str | None =
         except UpdateError as exc:
             node = update_nodes[i]
             problems.add(f"updates[{i}] (at {item['at']} ms)", str(exc),
-                         _update_span(node, exc, text))
+                         _update_span(node, exc, text, offsets))
             continue
         scenario.updates.append(TimedUpdate(item["at"], update, i))
     for i, item in enumerate(data.get("operator", ())):

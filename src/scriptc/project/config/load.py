@@ -16,7 +16,7 @@ from __future__ import annotations
 import os
 import re
 import sys
-from typing import Any, NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
 from scriptc.diagnostics.codes import diagnostic
 from scriptc.diagnostics.model import Diagnostic
@@ -33,9 +33,13 @@ from scriptc.project.config.settings import (
     UserFunction,
     UserRule,
 )
+from scriptc.project.config.tomlpos import TOMLTable, TOMLValue
 from scriptc.robot.limits import LIMITS
 from scriptc.robot.profile import Profile
 from scriptc.source import SourceFile, Span
+
+if TYPE_CHECKING:
+    from scriptc.project.cache import Cache
 
 CONFIG_FILES = ("scriptc.toml", "pyproject.toml")
 # Patterns are compiled on first use (`re` caches them): most runs never need them.
@@ -139,7 +143,42 @@ class ConfigFile(NamedTuple):
     diagnostics: list[Diagnostic]
 
 
-def _toml_error(text: str, exc: Exception) -> Diagnostic:
+class TomlRead(NamedTuple):
+    """A TOML file's bytes read (`read_toml`): its text, its table, or the one problem that
+    stopped the reading (then `table` is None)."""
+
+    text: str
+    table: TOMLTable | None
+    problem: Diagnostic | None
+
+
+def read_toml(data: bytes, *, what: str = "the configuration", syntax: str = "C005",
+              value: str = "C002") -> TomlRead:
+    """Decode and parse a TOML file (a configuration, a test file): bytes that are not UTF-8
+    text and TOML syntax errors are a diagnostic of the code `syntax` at their place; an
+    integer too long to read one of `value` (the number policy's error); arrays or tables
+    nested too deep for `tomllib` one of `syntax`. `what` names the file in messages ("the
+    configuration is not valid TOML: ...")."""
+    import tomllib
+
+    decoded = decode(data)
+    text = decoded.text
+    if decoded.bad is not None:
+        return TomlRead(text, None, diagnostic(
+            syntax, f"{what} is not valid TOML: {decoded.problem}",
+            Span(decoded.bad, min(decoded.bad + 1, len(text))),
+            notes=[f"at byte offset {decoded.byte} of the file"]))
+    try:
+        return TomlRead(text, tomllib.loads(text), None)
+    except tomllib.TOMLDecodeError as exc:
+        return TomlRead(text, None, _toml_error(text, exc, what, syntax))
+    except ValueError:  # tomllib converts integers with int(): more than 4,300 digits fail
+        return TomlRead(text, None, _long_integer(text, value))
+    except RecursionError:  # tomllib recurses into nested arrays and inline tables
+        return TomlRead(text, None, _too_deep(text, what, syntax))
+
+
+def _toml_error(text: str, exc: Exception, what: str, code: str) -> Diagnostic:
     message = str(exc)
     m = re.search(_TOML_POSITION, message)
     if m is not None:
@@ -153,12 +192,12 @@ def _toml_error(text: str, exc: Exception) -> Diagnostic:
         offset = len(text)
     offset = max(0, min(offset, len(text)))
     first = message[:1].lower() + message[1:]
-    return diagnostic("C005", f"the configuration is not valid TOML: {first}",
+    return diagnostic(code, f"{what} is not valid TOML: {first}",
                       Span(offset, min(offset + 1, len(text))),
                       help="see https://toml.io for the syntax")
 
 
-def _long_integer(text: str) -> Diagnostic:
+def _long_integer(text: str, code: str) -> Diagnostic:
     """The integer too long for Python to read, which stopped tomllib: the number policy's
     error at the first run of more digits than Python converts."""
     limit = sys.get_int_max_str_digits() or 4300
@@ -166,26 +205,24 @@ def _long_integer(text: str) -> Diagnostic:
     span = Span(run.start(), run.end()) if run else Span(0, 0)
     written = text[span.start:span.end]
     problem = number_problem(10 ** MAX_DIGITS, written) if written else None
-    return diagnostic("C002", problem or "an integer too large to read", span,
+    return diagnostic(code, problem or "an integer too large to read", span,
                       help="write a number within a double's range")
 
 
-def _too_deep(text: str) -> Diagnostic:
+def _too_deep(text: str, what: str, code: str) -> Diagnostic:
     """Arrays or inline tables nested deeper than tomllib can read (it recurses): an error at
     the first long run of openers."""
     run = re.search(r"[\[{](?:\s*[\[{]){50,}", text)
     span = Span(run.start(), run.start() + 1) if run else Span(0, 0)
-    return diagnostic("C005", "the configuration nests arrays or tables too deeply to be read",
-                      span, help="a configuration's values nest a level or two")
+    return diagnostic(code, f"{what} nests arrays or tables too deeply to be read",
+                      span, help=f"{what}'s values nest a level or two")
 
 
-def load_config(path: str, cache: Any = None, *, pyproject: bool | None = None) -> ConfigFile:
+def load_config(path: str, cache: Cache | None = None, *,
+                pyproject: bool | None = None) -> ConfigFile:
     """Read, check and build the configuration in `path` (a scriptc.toml or pyproject.toml;
     `pyproject` says which when the file's name does not). Never raises: problems are
-    diagnostics in the file. `cache` (a `scriptc.project.cache.Cache`) keeps the outcome of checking
-    by the file's content."""
-    import tomllib
-
+    diagnostics in the file. `cache` keeps the outcome of checking by the file's content."""
     from scriptc.project.cache import code_fingerprint, digest
 
     path = os.path.abspath(path)
@@ -198,24 +235,13 @@ def load_config(path: str, cache: Any = None, *, pyproject: bool | None = None) 
             diagnostic("C005", "the configuration file cannot be read", Span(0, 0))])
     file_digest = digest(data)
     base = Settings(path=path, root=root, digest=file_digest)
-    decoded = decode(data)
-    text = decoded.text
+    text, document, problem = read_toml(data)
     source = SourceFile(shown, text)
-    if decoded.bad is not None:
-        return ConfigFile(base, source, [diagnostic(
-            "C005", f"the configuration is not valid TOML: {decoded.problem}",
-            Span(decoded.bad, min(decoded.bad + 1, len(text))),
-            notes=[f"at byte offset {decoded.byte} of the file"])])
-    try:
-        document = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        return ConfigFile(base, source, [_toml_error(text, exc)])
-    except ValueError:  # tomllib converts integers with int(): more than 4,300 digits fail
-        return ConfigFile(base, source, [_long_integer(text)])
-    except RecursionError:  # tomllib recurses into nested arrays and inline tables
-        return ConfigFile(base, source, [_too_deep(text)])
+    if document is None:
+        assert problem is not None  # a file that is not read says why
+        return ConfigFile(base, source, [problem])
     prefix: tuple[str, ...] = ()
-    table: Any = document
+    table: TOMLValue = document
     if pyproject is None:
         pyproject = os.path.basename(path) == "pyproject.toml"
     if pyproject:
@@ -252,37 +278,39 @@ def load_config(path: str, cache: Any = None, *, pyproject: bool | None = None) 
 # (each wrong value was reported by the checks and is left at its default here).
 
 
-def _strings(value: Any) -> tuple[str, ...]:
+def _strings(value: TOMLValue) -> tuple[str, ...]:
     if not isinstance(value, list):
         return ()
     return tuple(v for v in value if isinstance(v, str) and v)
 
 
-def _number(value: Any) -> float | None:
+def _number(value: TOMLValue) -> float | None:
     if isinstance(value, bool) or not isinstance(value, (int, float)) or \
             number_problem(value) is not None:  # nan, inf, beyond a double: reported
         return None
     return float(value)
 
 
-def _name(value: Any) -> str | None:
+def _name(value: TOMLValue) -> str | None:
     if isinstance(value, str) and is_name(value):
         return value
     return None
 
 
-def _implementation(value: Any) -> str | None:
+def _implementation(value: TOMLValue) -> str | None:
     if isinstance(value, str) and re.fullmatch(IMPLEMENTATION_PATTERN, value):
         return value
     return None
 
 
-def build_settings(table: dict[str, Any], *, path: str | None = None, root: str = ".",
+def build_settings(table: TOMLTable, *, path: str | None = None, root: str = ".",
                    digest: str = "") -> Settings:
     """Settings from a configuration table (values of the wrong type are left out)."""
     from scriptc.ir.builtins import STANDARD
 
-    lint = table.get("lint") if isinstance(table.get("lint"), dict) else {}
+    lint = table.get("lint")
+    if not isinstance(lint, dict):
+        lint = {}
     select = _strings(lint.get("select")) if "select" in lint else (ALL,)
     pfi = lint.get("per-file-ignores")
     per_file = tuple((pattern, _strings(codes)) for pattern, codes in pfi.items()
@@ -293,8 +321,10 @@ def build_settings(table: dict[str, Any], *, path: str | None = None, root: str 
 
     # A limit outside its range was reported by the checks (the schema's ranges are the
     # table's): like a missing one, it keeps its default (robot/limits.py).
-    robot_table = table.get("robot") if isinstance(table.get("robot"), dict) else {}
-    given = {}
+    robot_table = table.get("robot")
+    if not isinstance(robot_table, dict):
+        robot_table = {}
+    given: dict[str, float] = {}
     for limit in LIMITS:
         value = _number(robot_table.get(limit.key))
         if value is not None and limit.accepts(value):
@@ -313,11 +343,14 @@ def build_settings(table: dict[str, Any], *, path: str | None = None, root: str 
             arity = len(params) if isinstance(item.get("params"), list) else None
         if params and len(params) != arity:
             params = ()
-        if name is None or kind not in FUNCTION_KINDS or implementation is None or \
-                arity is None or STANDARD.get(name) is not None or \
+        # (a kind that is no text, say an array, is not looked up: it cannot be a key)
+        if name is None or not isinstance(kind, str) or kind not in FUNCTION_KINDS or \
+                implementation is None or arity is None or STANDARD.get(name) is not None or \
                 any(f.name == name for f in functions):
             continue
-        doc = item.get("doc") if isinstance(item.get("doc"), str) else ""
+        doc = item.get("doc")
+        if not isinstance(doc, str):
+            doc = ""
         functions.append(UserFunction(name, kind, arity, implementation, params, doc, root))
 
     rules: list[UserRule] = []
@@ -331,7 +364,9 @@ def build_settings(table: dict[str, Any], *, path: str | None = None, root: str 
             code = None
         if name is None or implementation is None or any(r.name == name for r in rules):
             continue
-        doc = item.get("doc") if isinstance(item.get("doc"), str) else ""
+        doc = item.get("doc")
+        if not isinstance(doc, str):
+            doc = ""
         rules.append(UserRule(name, implementation, code, doc, root))
 
     audio = table.get("audio-root")
@@ -363,7 +398,7 @@ class Resolver:
     (`--isolated`); `selection` is the command line's rule selection, laid over every
     configuration (`--select`, `--extend-select`, `--ignore`)."""
 
-    def __init__(self, cache: Any = None, *, config: str | None = None,
+    def __init__(self, cache: Cache | None = None, *, config: str | None = None,
                  isolated: bool = False, selection: RuleSelection | None = None) -> None:
         self.cache = cache
         self.forced = os.path.abspath(config) if config else None

@@ -287,3 +287,34 @@ def locate(text: str) -> KeySpans:
         return scanner.document()
     except (_Stop, IndexError):
         return scanner.out
+
+
+def string_offsets(text: str, span: Span) -> list[int]:
+    """For the string literal at `span` of a TOML document (any of the four kinds): the offset
+    of each character of its value, and one more entry, the offset of its closing quote. A
+    reader that parses a string's value (a `jsonmsg` given as text) points into the document
+    with it, across escapes: `\\uXXXX` and `\\UXXXXXXXX` stand for one character, a
+    line-ending backslash of a multi-line basic string for none, and the line break right after
+    the opening quotes of a multi-line string is not part of the value."""
+    quotes = 3 if text.startswith(('"""', "'''"), span.start) else 1
+    basic = text.startswith('"', span.start)
+    pos, end = span.start + quotes, max(span.start + quotes, span.end - quotes)
+    if quotes == 3:
+        pos += 2 if text.startswith("\r\n", pos) else 1 if text.startswith("\n", pos) else 0
+    offsets: list[int] = []
+    while pos < end:
+        if not basic or text[pos] != "\\" or pos + 1 >= end:
+            offsets.append(pos)
+            pos += 1
+            continue
+        escaped = text[pos + 1]
+        if quotes == 3 and escaped in " \t\r\n":
+            # A line-ending backslash: it and the blanks and line breaks after it are nothing.
+            pos += 1
+            while pos < end and text[pos] in " \t\r\n":
+                pos += 1
+            continue
+        offsets.append(pos)
+        pos += {"u": 6, "U": 10}.get(escaped, 2)
+    offsets.append(end)
+    return offsets

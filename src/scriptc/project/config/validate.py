@@ -15,11 +15,11 @@ import os
 from functools import cache
 from typing import Any
 
+from scriptc.diagnostics.codes import diagnostic
+from scriptc.diagnostics.model import Diagnostic
+from scriptc.numbers import number_problem
 from scriptc.project.config.settings import run_time_refusal, selected_codes
 from scriptc.project.config.tomlpos import KeyPath, KeySpans, locate
-from scriptc.diagnostics.model import Diagnostic
-from scriptc.diagnostics.codes import diagnostic
-from scriptc.numbers import number_problem
 from scriptc.source import SourceFile
 
 
@@ -27,7 +27,9 @@ from scriptc.source import SourceFile
 def schema() -> dict[str, Any]:
     from scriptc.resources import schema_path
 
-    return json.loads(schema_path("config.schema.json").read_text(encoding="utf-8"))
+    loaded: dict[str, Any] = json.loads(schema_path("config.schema.json").read_text(
+        encoding="utf-8"))  # a JSON Schema document: an object
+    return loaded
 
 
 def _toml_type(value: Any) -> str:
@@ -67,10 +69,25 @@ def dotted(path: KeyPath) -> str:
     return out
 
 
-class _Checker:
-    def __init__(self, source: SourceFile, prefix: KeyPath) -> None:
+class TomlChecker:
+    """The checks of a TOML document of scriptc against its JSON Schema (the configuration, a
+    test file): each finding of the schema in words, at the key or value it is about, an
+    unknown key (code `unknown`) with the known key it is close to, and the number policy over
+    every number (`nan`, `inf`); the other findings have the code `invalid`. `what` names the
+    document ("the configuration"), `reference` is the page that lists its keys. A subclass
+    adds what the schema cannot say (`report` at a key path, `name` of one)."""
+
+    def __init__(self, source: SourceFile, prefix: KeyPath = (), *,
+                 schema: dict[str, Any] | None = None, unknown: str = "C001",
+                 invalid: str = "C002", what: str = "the configuration",
+                 reference: str = "docs/configuration.md") -> None:
         self.source = source
         self.prefix = prefix
+        self.schema = schema
+        self.unknown = unknown
+        self.invalid = invalid
+        self.what = what
+        self.reference = reference
         self._positions: KeySpans | None = None
         self.out: list[Diagnostic] = []
 
@@ -93,14 +110,14 @@ class _Checker:
         full = self.prefix + tuple(path)
         if full and isinstance(full[-1], int):
             return f"`{dotted(full)}`"
-        return f"`[{dotted(full)}]`" if full else "the configuration"
+        return f"`[{dotted(full)}]`" if full else self.what
 
     # -- the schema ---------------------------------------------------------------------------
 
     def check_schema(self, data: dict[str, Any]) -> None:
         import jsonschema
 
-        validator = jsonschema.Draft202012Validator(schema())
+        validator = jsonschema.Draft202012Validator(self.schema or schema())
         errors = sorted(validator.iter_errors(data), key=lambda e: list(map(str, e.absolute_path)))
         for error in errors:
             self.schema_error(error)
@@ -123,14 +140,13 @@ class _Checker:
                          f"the keys of {self.table_name(path)} are "
                          + ", ".join(f"`{k}`" for k in known))
                 where = f" in {self.table_name(path)}" if self.prefix + path else ""
-                self.report("C001", f"unknown key `{key}`{where}",
+                self.report(self.unknown, f"unknown key `{key}`{where}",
                             path + (key,), at="key", help=help_,
-                            notes=("see docs/configuration.md for every key",))
+                            notes=(f"see {self.reference} for every key",))
             return
         if kind == "type":
-            expected = sub["type"]
-            expected = " or ".join(_JSON_TYPE.get(t, t) for t in
-                                   (expected if isinstance(expected, list) else [expected]))
+            types: list[str] = sub["type"] if isinstance(sub["type"], list) else [sub["type"]]
+            expected = " or ".join(_JSON_TYPE.get(t, t) for t in types)
             message = f"{what} must be {expected}, not {_toml_type(value)}"
         elif kind == "enum":
             choices = ", ".join(f"`{c}`" for c in sub["enum"])
@@ -145,6 +161,9 @@ class _Checker:
             message = f"{what} must not be empty"
         elif kind == "maxItems":
             message = f"{what} has more than {sub['maxItems']} items"
+        elif kind == "minItems":
+            message = f"{what} must not be empty" if sub["minItems"] == 1 else \
+                f"{what} has fewer than {sub['minItems']} items"
         elif kind == "pattern":
             if ":" in sub["pattern"]:
                 message = f"{what} must be a Python object as `module:attribute`, not `{value}`"
@@ -154,17 +173,17 @@ class _Checker:
         elif kind == "required":
             missing = [k for k in sub["required"] if k not in value]
             message = f"{self.table_name(path)} lacks the required key `{missing[0]}`"
-            self.report("C002", message, path, at="key")
+            self.report(self.invalid, message, path, at="key")
             return
         elif kind == "anyOf" and "params" in sub.get("properties", {}):
             message = f"{self.table_name(path)} needs `arity` (or `params`)"
-            self.report("C002", message, path, at="key")
+            self.report(self.invalid, message, path, at="key")
             return
         elif kind in ("additionalProperties", "propertyNames"):
             return  # the per-key errors are reported on their own
         else:
             message = f"{what}: {error.message}"
-        self.report("C002", message, path)
+        self.report(self.invalid, message, path)
 
     # -- what a schema cannot say -------------------------------------------------------------
 
@@ -181,9 +200,13 @@ class _Checker:
             elif number_problem(value) is not None:
                 span = self.positions.find(self.prefix + path, prefer="value")
                 written = self.source.text[span.start:span.end].strip()
-                self.report("C002", f"`{self.name(path)}`: "
+                self.report(self.invalid, f"`{self.name(path)}`: "
                             f"{number_problem(value, written or None)}", path,
                             help="write a finite number in the key's range")
+
+
+class _Checker(TomlChecker):
+    """The configuration's checks: the schema's, then what a schema cannot say."""
 
     def check_meaning(self, data: dict[str, Any]) -> None:
         self.numbers(data)
@@ -242,8 +265,8 @@ class _Checker:
             shown = codes[0] if len(codes) == 1 else f"{codes[0]}..{codes[-1]}"
             self.report("C004", f"`{selector}` names only errors ({shown}): errors cannot be "
                         f"{purpose}", path, at=at,
-                        notes=("a script with an error does not work on the robot, so errors "
-                               "are always reported",),
+                        notes=(("a script with an error does not work on the robot, so errors "
+                                "are always reported"),),
                         help="fix the error in the script instead")
 
     def pattern(self, pattern: str, path: KeyPath, *, at: str = "value") -> None:
@@ -251,7 +274,7 @@ class _Checker:
 
         try:
             pathspec.GitIgnoreSpec.from_lines([pattern])
-        except Exception as exc:  # noqa: BLE001 - pathspec raises several kinds
+        except Exception as exc:  # pathspec raises several kinds
             self.report("C002", f"`{pattern}` is not a valid .gitignore pattern: {exc}", path,
                         at=at)
 
