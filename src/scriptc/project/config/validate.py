@@ -12,27 +12,35 @@ from __future__ import annotations
 import difflib
 import json
 import os
+from collections.abc import Mapping
 from functools import cache
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from scriptc.diagnostics.codes import diagnostic
 from scriptc.diagnostics.model import Diagnostic
 from scriptc.numbers import number_problem
 from scriptc.project.config.settings import run_time_refusal, selected_codes
-from scriptc.project.config.tomlpos import KeyPath, KeySpans, locate
+from scriptc.project.config.tomlpos import KeyPath, KeySpans, TOMLTable, TOMLValue, locate
 from scriptc.source import SourceFile
+
+if TYPE_CHECKING:  # jsonschema is imported when a document is checked
+    from jsonschema import ValidationError
+
+
+# A JSON Schema document (schemas/*.schema.json) as `json` reads it: its values are any JSON.
+JSONSchema = dict[str, Any]
 
 
 @cache
-def schema() -> dict[str, Any]:
+def schema() -> JSONSchema:
     from scriptc.resources import schema_path
 
-    loaded: dict[str, Any] = json.loads(schema_path("config.schema.json").read_text(
-        encoding="utf-8"))  # a JSON Schema document: an object
+    loaded: JSONSchema = json.loads(schema_path("config.schema.json").read_text(
+        encoding="utf-8"))
     return loaded
 
 
-def _toml_type(value: Any) -> str:
+def _toml_type(value: TOMLValue) -> str:
     import datetime
 
     if isinstance(value, bool):
@@ -78,7 +86,7 @@ class TomlChecker:
     adds what the schema cannot say (`report` at a key path, `name` of one)."""
 
     def __init__(self, source: SourceFile, prefix: KeyPath = (), *,
-                 schema: dict[str, Any] | None = None, unknown: str = "C001",
+                 schema: JSONSchema | None = None, unknown: str = "C001",
                  invalid: str = "C002", what: str = "the configuration",
                  reference: str = "docs/configuration.md") -> None:
         self.source = source
@@ -114,7 +122,7 @@ class TomlChecker:
 
     # -- the schema ---------------------------------------------------------------------------
 
-    def check_schema(self, data: dict[str, Any]) -> None:
+    def check_schema(self, data: TOMLTable) -> None:
         import jsonschema
 
         validator = jsonschema.Draft202012Validator(self.schema or schema())
@@ -122,13 +130,14 @@ class TomlChecker:
         for error in errors:
             self.schema_error(error)
 
-    def schema_error(self, error: Any) -> None:
+    def schema_error(self, error: ValidationError) -> None:
         path = tuple(error.absolute_path)
         kind = error.validator
-        value = error.instance
+        value: TOMLValue = error.instance  # the value the finding is about
         if number_problem(value) is not None:
             return  # `nan`, `inf`, beyond a double: the number policy reports it (`numbers`)
-        sub = error.schema
+        # the (sub)schema whose keyword `kind` failed; a boolean schema has no keyword
+        sub: Mapping[str, Any] = error.schema if isinstance(error.schema, Mapping) else {}
         what = f"`{self.name(path)}`"
         if kind == "additionalProperties" and sub.get("additionalProperties") is False:
             known = sorted(sub.get("properties", {}))
@@ -187,10 +196,10 @@ class TomlChecker:
 
     # -- what a schema cannot say -------------------------------------------------------------
 
-    def numbers(self, data: dict[str, Any]) -> None:
+    def numbers(self, data: TOMLTable) -> None:
         """The number policy (scriptc.numbers) over every number of the table: TOML reads
         `nan`, `inf` and `1e999` (infinity), and a JSON Schema's ranges let them through."""
-        stack: list[tuple[KeyPath, Any]] = [((), data)]
+        stack: list[tuple[KeyPath, TOMLValue]] = [((), data)]
         while stack:
             path, value = stack.pop()
             if isinstance(value, dict):
@@ -208,7 +217,7 @@ class TomlChecker:
 class _Checker(TomlChecker):
     """The configuration's checks: the schema's, then what a schema cannot say."""
 
-    def check_meaning(self, data: dict[str, Any]) -> None:
+    def check_meaning(self, data: TOMLTable) -> None:
         self.numbers(data)
         lint = data.get("lint")
         if isinstance(lint, dict):
@@ -278,7 +287,7 @@ class _Checker(TomlChecker):
             self.report("C002", f"`{pattern}` is not a valid .gitignore pattern: {exc}", path,
                         at=at)
 
-    def declarations(self, items: Any, key: str, what: str) -> None:
+    def declarations(self, items: TOMLValue, key: str, what: str) -> None:
         if not isinstance(items, list):
             return
         from scriptc.ir.builtins import STANDARD
@@ -305,13 +314,13 @@ class _Checker(TomlChecker):
                             f"parameters but `arity` is {arity}", (key, i, "params"))
 
 
-def _strings(value: Any) -> list[tuple[int, str]]:
+def _strings(value: TOMLValue) -> list[tuple[int, str]]:
     if not isinstance(value, list):
         return []
     return [(i, v) for i, v in enumerate(value) if isinstance(v, str)]
 
 
-def check_config(data: dict[str, Any], source: SourceFile, prefix: KeyPath = ()
+def check_config(data: TOMLTable, source: SourceFile, prefix: KeyPath = ()
                  ) -> list[Diagnostic]:
     """Every problem of a parsed configuration table (`data`, found at `prefix` in the
     document `source`: `("tool", "scriptc")` in pyproject.toml), sorted by position."""
