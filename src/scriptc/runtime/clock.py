@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import heapq
 from collections.abc import Callable
-from typing import Any
+from typing import Any, TypeVar
 
 # Priorities among events of the same millisecond (smaller first).
 PRIO_START = -1  # the session's start: it makes 0 ms an instant even when nothing else is due
@@ -27,7 +27,12 @@ PRIO_UPDATE = 5
 
 # A handler returns False when its event turned out stale (cancelled): an instant where only
 # stale events fell is not a loop (time does not even move there).
-Handler = Callable[[int, Any], bool]
+A = TypeVar("A")
+Handler = Callable[[int, A], bool]
+
+# An event's argument, as the queue holds it: whatever its handler takes (`push` checks the
+# pair), of as many kinds as there are handlers.
+EventArg = Any
 
 
 class EventQueue:
@@ -39,10 +44,10 @@ class EventQueue:
     __slots__ = ("_heap", "_seq")
 
     def __init__(self) -> None:
-        self._heap: list[tuple[int, int, int, Handler, Any]] = []
+        self._heap: list[tuple[int, int, int, Handler[EventArg], EventArg]] = []
         self._seq = 0
 
-    def push(self, time: int, prio: int, handler: Handler, arg: Any = None) -> None:
+    def push(self, time: int, prio: int, handler: Handler[A], arg: A) -> None:
         self._seq += 1
         heapq.heappush(self._heap, (time, prio, self._seq, handler, arg))
 
@@ -50,7 +55,7 @@ class EventQueue:
         """The time of the earliest event, or None when nothing is scheduled."""
         return self._heap[0][0] if self._heap else None
 
-    def pop_due(self, time: int) -> tuple[Handler, Any] | None:
+    def pop_due(self, time: int) -> tuple[Handler[EventArg], EventArg] | None:
         """The next event at `time` (None when the earliest is later or there is none)."""
         heap = self._heap
         if heap and heap[0][0] <= time:
