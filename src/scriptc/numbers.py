@@ -19,6 +19,8 @@ infinity, and integers of thousands of digits, which `int()` refuses beyond 4,30
 On the way out, `json_dumps` is the one JSON writer of results (traces, `--json` summaries,
 diagnostics): it never writes `NaN` or `Infinity`, which no strict JSON reader accepts; a
 non-finite number reaching it is a bug of scriptc, reported as such with where it was.
+`JSONValue` and `JSONObject` name JSON data wherever it crosses into the code (parsed
+documents, map records, trace events, cache entries, protocol answers).
 """
 
 from __future__ import annotations
@@ -26,11 +28,13 @@ from __future__ import annotations
 import json
 import math
 import sys
-from typing import Any
+from typing import Any, TypeAlias
 
 __all__ = [
     "LARGEST",
     "MAX_DIGITS",
+    "JSONObject",
+    "JSONValue",
     "NonFiniteOutput",
     "NumberError",
     "json_dumps",
@@ -147,6 +151,13 @@ def _first_non_finite(value: Any) -> tuple[str, float] | None:
         elif isinstance(item, (list, tuple)):
             stack.extend((f"{path}[{i}]", v) for i, v in reversed(list(enumerate(item))))
     return None
+
+
+# JSON data as Python holds it (`json.loads`, a parsed document, a trace event): dicts, lists,
+# texts, numbers, booleans and None, nested. Its shape is checked where it is read (a schema,
+# or `isinstance`), not by the type checker: this is the one boundary type for it.
+JSONValue: TypeAlias = Any
+JSONObject: TypeAlias = dict[str, JSONValue]
 
 
 def json_dumps(value: Any, **options: Any) -> str:

@@ -24,9 +24,10 @@ sits on the path of `scriptc lint`, whose cold start is budgeted.
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from typing import TYPE_CHECKING, Any, Protocol, cast
+from typing import TYPE_CHECKING, Protocol, cast
 
 from scriptc.diagnostics.model import Diagnostic, Severity
+from scriptc.numbers import JSONObject
 from scriptc.paths import repository_path, repository_root
 from scriptc.source import SourceFile, Span
 
@@ -45,8 +46,6 @@ class FileResults(Protocol):
     def diagnostics(self) -> Sequence[Diagnostic]: ...
 
 
-# A JSON object the machine-readable formats write (JSON, SARIF): its values are any JSON.
-JSONObject = dict[str, Any]
 # What the renderers take: each file's results, or plain `(source, diagnostics)` pairs.
 Results = Sequence[FileResults | tuple[SourceFile, Sequence[Diagnostic]]]
 

@@ -24,21 +24,17 @@ from __future__ import annotations
 
 import re
 from collections.abc import Iterable
-from typing import Any, TypeAlias
+from typing import TypeAlias
 
 from scriptc.gcpause import gc_paused
 from scriptc.numbers import NumberError, json_number
 from scriptc.source import SourceFile, Span
 
-__all__ = ["JSONValue", "JsonError", "JsonNode", "JsonScalar", "Member", "parse_json",
+__all__ = ["JsonError", "JsonNode", "JsonScalar", "Member", "parse_json",
            "string_offsets"]
 
 # The Python value of a JSON scalar (a string, a number, `true`/`false`, `null`).
 JsonScalar: TypeAlias = str | int | float | bool | None
-# A JSON value as Python holds it (`json.loads`, `JsonNode.to_python`, the values jsonschema's
-# errors carry): dicts, lists and scalars, nested. The boundary of parsed JSON: typed Any, and
-# read where its shape is known (a schema checked it, or `isinstance` asks).
-JSONValue: TypeAlias = Any
 
 
 class Member:

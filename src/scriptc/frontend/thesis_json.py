@@ -42,7 +42,6 @@ from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit
 from scriptc.frontend.jsonpos import (
     JsonError,
     JsonNode,
-    JSONValue,
     Member,
     parse_json,
     string_offsets,
@@ -52,7 +51,7 @@ from scriptc.ir import nodes as ir
 from scriptc.ir.fields import read_number
 from scriptc.ir.shift import map_spans, shift
 from scriptc.language import MUTEXES, RULE_ACTIONS, name_problem, to_name
-from scriptc.numbers import MAX_DIGITS, whole_number
+from scriptc.numbers import MAX_DIGITS, JSONValue, whole_number
 from scriptc.source import SourceFile, Span
 
 if TYPE_CHECKING:  # (imported where it runs: only for a document that is not valid)

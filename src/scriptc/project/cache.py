@@ -24,10 +24,10 @@ import contextlib
 import json
 import os
 from functools import cache
-from typing import Any
 
 from scriptc import __version__
 from scriptc.diagnostics.model import Diagnostic, Fix, Label, Severity, TextEdit
+from scriptc.numbers import JSONValue
 from scriptc.source import Span
 from scriptc.writing import create_file, replace_file
 
@@ -84,9 +84,8 @@ def code_fingerprint() -> str:
 # ---------------------------------------------------------------------------------------------
 # Diagnostics as JSON
 
-# An entry as the cache stores it: a JSON value (a diagnostic is a list of texts, numbers,
+# An entry as the cache stores it is a JSONValue (a diagnostic is a list of texts, numbers,
 # booleans, None and lists of them: `dump_diagnostic`), checked by whoever reads it back.
-JSONValue = Any
 
 
 def dump_diagnostic(d: Diagnostic) -> list[JSONValue]:

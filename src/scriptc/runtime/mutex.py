@@ -19,6 +19,7 @@ reported (`rule`) and the chain goes on. Motion is held for the pass iff a body 
 
 from __future__ import annotations
 
+from scriptc.numbers import JSONValue
 from scriptc.runtime.actuators import Actuators
 from scriptc.runtime.bindings import Bindings
 from scriptc.runtime.commands import RuleMessage
@@ -35,7 +36,7 @@ from scriptc.runtime.rules import (
 from scriptc.runtime.status import MUTEX_MISUSE, RULE, UNKNOWN_RULECODE, RunStatus
 from scriptc.runtime.trace import Trace
 from scriptc.runtime.updates import Updates
-from scriptc.runtime.world import JSONValue, Record, World
+from scriptc.runtime.world import Record, World
 
 
 class RuleEffects:

@@ -45,10 +45,10 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Protocol
 
 from scriptc.ir import nodes as ir
-from scriptc.numbers import whole_number
+from scriptc.numbers import JSONValue, whole_number
 from scriptc.runtime.bindings import Bindings
 from scriptc.runtime.commands import BlockCommands, RuleMessage
-from scriptc.runtime.world import JSONValue, OverrideRequest, Record, World
+from scriptc.runtime.world import OverrideRequest, Record, World
 
 if TYPE_CHECKING:
     from scriptc.runtime.evaluate import Evaluation

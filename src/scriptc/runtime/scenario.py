@@ -33,9 +33,9 @@ from typing import TYPE_CHECKING
 from scriptc.analysis.read import ReadError, read_bytes
 from scriptc.encoding import decode
 from scriptc.frontend.jsonpos import JsonError, JsonNode, Member, parse_json, string_offsets
+from scriptc.numbers import JSONValue
 from scriptc.runtime.world import (
     JSONMSG_DEPTH,
-    JSONValue,
     MapUpdate,
     Record,
     UpdateError,

@@ -11,12 +11,12 @@ from __future__ import annotations
 
 from typing import Any
 
-from scriptc.numbers import json_dumps
+from scriptc.numbers import JSONObject, json_dumps
 
 # One event of the trace: `t`, `event` and the kind's fields. The values are JSON data (texts,
 # numbers, booleans, None, and lists and dicts of them: a jsonmsg's record, bindings, a
 # command), so they are typed at this boundary as JSON is, not per kind.
-Event = dict[str, Any]
+Event = JSONObject
 
 # Every kind of event, in the order docs/runtime.md presents them.
 EVENT_KINDS = (

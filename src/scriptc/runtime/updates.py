@@ -14,9 +14,10 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+from scriptc.numbers import JSONValue
 from scriptc.runtime.status import UPDATE, RunStatus
 from scriptc.runtime.trace import Trace
-from scriptc.runtime.world import JSONValue, MapUpdate, Record, UpdateError, World, parse_update
+from scriptc.runtime.world import MapUpdate, Record, UpdateError, World, parse_update
 
 
 class Updates:

@@ -31,10 +31,9 @@ import re
 from collections import deque
 from collections.abc import Collection, Iterable
 from dataclasses import dataclass, field
-from typing import Any
 
 from scriptc.frontend.jsonpos import JsonError, JsonNode, parse_json
-from scriptc.numbers import number_problem, whole_number
+from scriptc.numbers import JSONObject, JSONValue, number_problem, whole_number
 from scriptc.runtime.commands import BlockCommands
 from scriptc.source import Span
 
@@ -43,8 +42,7 @@ _WHOLE = re.compile(r"[+-]?[0-9]+")
 # What the map holds: a jsonmsg as `_type_ok` converted it (a value of the attribute's kind, a
 # record of them, or for `audioin` any JSON), read by conditions, rules and functions as the
 # tables below say it is. It comes from JSON, and is typed at this boundary as JSON is.
-JSONValue = Any
-Record = dict[str, JSONValue]
+Record = JSONObject
 
 HISTORY = 100  # length of the circular registers of append-only attributes
 

@@ -24,7 +24,6 @@ cannot hold half a character).
 from __future__ import annotations
 
 from functools import cache
-from typing import Any
 
 from lsprotocol import types as lsp
 
@@ -33,6 +32,7 @@ from scriptc.diagnostics.model import Diagnostic, Severity, TextEdit
 from scriptc.ide import answers
 from scriptc.ide.pads import IDENTITY, Layout
 from scriptc.ide.tokens import MODIFIERS, TYPES
+from scriptc.numbers import JSONObject
 from scriptc.source import SourceFile, Span
 
 SOURCE = "scriptc"
@@ -70,9 +70,6 @@ _FOLD_KIND = {"region": lsp.FoldingRangeKind.Region, "comment": lsp.FoldingRange
 _TYPE_INDEX = {name: i for i, name in enumerate(TYPES)}
 _MODIFIER_BIT = {name: 1 << i for i, name in enumerate(MODIFIERS)}
 
-# A JSON object of the protocol built here and sent as it is (`Json`): its values are any
-# JSON (objects, arrays, numbers, strings).
-JsonObject = dict[str, Any]
 
 
 class Json:
@@ -292,7 +289,7 @@ def hover(p: Positions, h: answers.Hover | None) -> lsp.Hover | None:
     return lsp.Hover(lsp.MarkupContent(lsp.MarkupKind.Markdown, h.markdown), p.range(h.span))
 
 
-def _json_range(r: lsp.Range) -> JsonObject:
+def _json_range(r: lsp.Range) -> JSONObject:
     return {"start": {"line": r.start.line, "character": r.start.character},
             "end": {"line": r.end.line, "character": r.end.character}}
 
@@ -302,13 +299,13 @@ def completion_list(p: Positions, items: list[answers.CompletionItem], snippets:
     """A CompletionList, in JSON form (a large script has hundreds of labels to propose).
     Documentation is markdown when the client says it reads markdown, else plain text."""
     out = []
-    ranges: dict[Span, JsonObject] = {}
+    ranges: dict[Span, JSONObject] = {}
     for item in items:
         r = ranges.get(item.span)
         if r is None:
             r = ranges[item.span] = _json_range(p.range(item.span))
         use_snippet = snippets and item.snippet is not None
-        entry: JsonObject = {"label": item.label,
+        entry: JSONObject = {"label": item.label,
                              "textEdit": {"range": r, "newText": item.snippet if use_snippet
                                           else (item.insert_text or item.label)}}
         kind = _COMPLETION_KIND.get(item.kind)
