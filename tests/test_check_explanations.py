@@ -26,8 +26,9 @@ def has_script_example(code: str) -> bool:
 # Run-time codes (family X) are reported by a run, not by lint: their examples are run
 # (tests/test_runtime_codes.py).
 RUN_TIME_CODES = [c.code for c in all_codes() if c.at_run_time]
+# Test files' codes (family T) show a test file, with the script it runs: checked below.
 CHECK_CODES = [c for c in ALL_CODES if has_script_example(c) and c not in NOT_FROM_TEXT
-               and c not in RUN_TIME_CODES]
+               and c not in RUN_TIME_CODES and not c.startswith("T")]
 _NAME_ITEM = re.compile(r"\[[A-Za-z_][A-Za-z0-9_-]*\]$")
 
 
@@ -50,11 +51,11 @@ def example_script(text: str) -> str:
 
 
 def test_the_examples_checked_cover_the_codes_of_scripts() -> None:
-    """Every code but those of JSON and configuration files shows a script (J, C: other
-    formats), and all of those are checked below."""
+    """Every code but those of JSON, configuration and test files shows a script (J, C, T:
+    other formats), and all of those are checked below (T's examples too)."""
     assert len(CHECK_CODES) >= 45
     others = {c for c in ALL_CODES if not has_script_example(c)}
-    assert all(c[0] in "JC" for c in others), others
+    assert all(c[0] in "JCT" for c in others), others
 
 
 @pytest.mark.parametrize("code", ALL_CODES)
@@ -80,3 +81,30 @@ def test_explanation_example_triggers_its_code(code: str) -> None:
             return
         tried.append(f"{[d.code for d in analysis.diagnostics]}:\n{script}")
     pytest.fail(f"{code}'s example gives " + "\nor ".join(tried))
+
+
+TEST_CODES = [c for c in ALL_CODES if c.startswith("T")]
+
+
+@pytest.mark.parametrize("code", TEST_CODES)
+def test_test_file_example_triggers_its_code(code: str, tmp_path, monkeypatch) -> None:
+    """A test file's example (its ```toml block, with the script of a ```scriptc block beside
+    it as `example.script`) gives its code when `scriptc test` reads it, or runs it (T006)."""
+    from scriptc.ops.test import run_one
+    from scriptc.testing.read import read_test
+
+    section = explanation(code).split("## Example", 1)[1]
+    blocks = re.findall(r"```(toml|scriptc)\n(.*?)```", section, re.DOTALL)
+    kinds = dict(blocks)
+    assert "toml" in kinds, f"{code}'s example has no test file"
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "example.test.toml").write_text(kinds["toml"], encoding="utf-8")
+    (tmp_path / "example.script").write_text(kinds.get("scriptc", (
+        "[example]\n[goal:g]\n  [action]\n    [b##blk_terminus]\n")), encoding="utf-8")
+    read = read_test("example.test.toml")
+    codes = [d.code for d in read.diagnostics]
+    if read.test is not None:
+        from scriptc.testing.report import failures
+
+        codes = [d.code for d in failures(read.test, run_one(read.test))]
+    assert code in codes, codes

@@ -28,6 +28,9 @@ The aspects (inputs, then what each writes beside them):
   the editor feature answers there (harness/ide.py).
 - `trace`: `runtime/NAME.script` (or `.json`) with its scenarios `NAME[.VARIANT].world`:
   `NAME[.VARIANT].trace.jsonl`, the trace of the run, through each executor (harness/runtime.py).
+- `test`: `testing/NAME.test.toml`, a test file: `NAME.diagnostics`, what `scriptc test` reports
+  in it (its problems, or its failed expectations), and for one that checks `NAME.result.json`,
+  the result of its run (harness/testing.py).
 
 `render/*.txt` are snapshots of the text renderer over hand-built diagnostics, written by
 tests/test_render.py through `expect`. A file under tests/cases/ that is neither an input, an
@@ -125,10 +128,10 @@ SUPPORT = ("scriptc.toml", "*.py")
 
 def checks() -> list[Check]:
     """Every check of every case, aspect by aspect."""
-    from harness import aspects, ide, runtime
+    from harness import aspects, ide, runtime, testing
 
     out: list[Check] = []
-    for make in (*aspects.ASPECTS, ide.checks, runtime.checks):
+    for make in (*aspects.ASPECTS, ide.checks, runtime.checks, testing.checks):
         out.extend(make())
     return out
 

@@ -33,9 +33,11 @@ def analysis(path: Path, text: str | None = None):
 # -- diagnostics -------------------------------------------------------------------------------
 
 def script_inputs() -> list[Path]:
-    """Every script and thesis JSON file of the cases (not the goldens `NAME.out.*`)."""
+    """Every script and thesis JSON file of the cases (not the goldens `NAME.out.*`, nor the
+    JSON of the test files' cases: their results and worlds)."""
     return [p for p in files() if p.suffix in (".script", ".json")
-            and not p.name.endswith((".out.script", ".out.json"))]
+            and not p.name.endswith((".out.script", ".out.json"))
+            and not relative(p).startswith("testing/")]
 
 
 def config_inputs() -> list[Path]:

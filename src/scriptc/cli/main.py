@@ -29,6 +29,7 @@ VERBS: dict[str, tuple[str, str]] = {
     "init": ("scriptc.cli.init", "Scaffold an activity repository (configuration, example, CI)."),
     "lsp": ("scriptc.cli.lsp", "Run the language server (LSP over stdin/stdout)."),
     "run": ("scriptc.cli.run", "Run scripts in simulated time (with a scenario, a trace)."),
+    "test": ("scriptc.cli.test", "Run the tests of an activity (*.test.toml) in simulated time."),
     "dis": ("scriptc.cli.dis", "Print the listing of a bytecode (.scb) file."),
     "fmt": ("scriptc.cli.fmt", "Format scripts in the canonical layout, comments kept."),
     "show-settings": ("scriptc.cli.show_settings",

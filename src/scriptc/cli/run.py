@@ -19,6 +19,7 @@ stops at once, without it).
 from __future__ import annotations
 
 import os
+from typing import TYPE_CHECKING
 
 import click
 
@@ -35,6 +36,9 @@ from scriptc.cli.common import (
 )
 from scriptc.ops.programs import EXECUTORS
 
+if TYPE_CHECKING:
+    from scriptc.runtime.scenario import Scenario
+
 
 class Refused(CliError):
     """A file that is read but refused (bytecode that is malformed or invalid): exit 1, as for a
@@ -46,7 +50,8 @@ class Refused(CliError):
 @click.command("run")
 @click.argument("files", nargs=-1, required=True)
 @click.option("--world", "world", metavar="FILE",
-              help="Scenario: timed map updates and operator events (JSON).")
+              help="Scenario: timed map updates and operator events (JSON), or a test file "
+                   "(*.test.toml) whose world to use.")
 @click.option("--until", "until", type=click.IntRange(min=0), metavar="MS",
               help="Stop at this simulated time (ms).")
 @click.option("--trace", "trace_path", metavar="FILE",
@@ -102,7 +107,9 @@ def command(ctx: click.Context, files: tuple[str, ...], world: str | None, until
         if output is not None:
             check_output(output)
     scenario = None
-    if world is not None:
+    if world is not None and world.endswith(".test.toml"):
+        scenario = _test_world(ctx, world)
+    elif world is not None:
         try:
             scenario = load_scenario(world)
         except ScenarioError as exc:
@@ -195,3 +202,20 @@ def command(ctx: click.Context, files: tuple[str, ...], world: str | None, until
     if interrupted:
         ctx.exit(interrupt.EXIT_STATUS)
     ctx.exit(1 if result.outcome == "error" else 0)
+
+
+def _test_world(ctx: click.Context, path: str) -> Scenario | None:
+    """The world of a test file (`--world NAME.test.toml`: its `[world]` table, or the world
+    file it names), so that `scriptc test`'s replay command runs the test's session. A test
+    file with problems is reported as `scriptc test` reports it (exit 2)."""
+    from scriptc.analysis.read import ReadError
+    from scriptc.testing.read import read_test
+
+    try:
+        read = read_test(path)
+    except ReadError as exc:
+        raise CliError(str(exc)) from None
+    if read.test is None:
+        show([(read.source, read.diagnostics)], err=True)
+        ctx.exit(2)
+    return read.test.world

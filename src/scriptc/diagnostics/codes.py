@@ -15,6 +15,7 @@ links keep working. Families:
 - J  thesis JSON input (`scriptc check`, `scriptc decompile`)
 - C  configuration (`scriptc.toml`, `[tool.scriptc]`) and suppression comments
 - K  safety against the robot profile (speeds, flashing LEDs)
+- T  test files (`*.test.toml`) and the expectations their runs do not meet (`scriptc test`)
 - X  run time: the `error` events of a run's trace (`scriptc run`, docs/runtime.md), which
      carry the code's name (`"code": "mutex-misuse"`); an error stops the run, a warning does
      not. `at_run_time` codes are never reported by lint (`lint_codes()` leaves them out).
@@ -131,6 +132,16 @@ _CODES = (
          "LEDs flashing faster than the profile allows (3 Hz: a seizure risk, WCAG 2.3.1)"),
     Code("K003", "ramps-change-pose", W,
          "moves whose acceleration ramps leave the robot away from where the script puts it"),
+    # T: test files and their expectations (`scriptc test`, testing/, docs/testing.md)
+    Code("T001", "invalid-test-file", E, "a test file that is not valid TOML (or not UTF-8 text)"),
+    Code("T002", "unknown-test-key", E, "a key a test file or its `[[expect]]` does not have"),
+    Code("T003", "invalid-test-value", E,
+         "a value of a test file of the wrong type, out of range or that says nothing"),
+    Code("T004", "test-file-not-found", E,
+         "a script or world file a test names does not exist or cannot be read"),
+    Code("T005", "invalid-test-world", E,
+         "the world of a test (its scenario file or `[world]` table) has a problem"),
+    Code("T006", "expectation-failed", E, "the run of a test did not do what an `[[expect]]` says"),
     # X: run time (the trace's `error` events carry the name; runtime/status.py)
     Code("X001", "mutex-misuse", W,
          "rule messages misuse the map's mutex at run time (a script that was not checked)",
