@@ -27,7 +27,7 @@ from scriptc.bytecode import (
 )
 from scriptc.bytecode.code import Assembler, JumpTarget, instructions
 from scriptc.bytecode.opcodes import BY_NAME, MAX_STACK, OPCODES
-from scriptc.bytecode.program import Action, Block, CodeSpan, Goal, Num, Program
+from scriptc.bytecode.program import ActionRecord, BlockRecord, CodeSpan, GoalRecord, Num, Program
 from scriptc.emit.codegen import CodegenError, codegen
 from scriptc.ops.build import emit
 from scriptc.source import SourceFile, Span
@@ -75,8 +75,8 @@ def one_block(build, kind: str = "J", constants=_CONSTANTS) -> Program:
     asm = Assembler()
     build(asm)
     return Program(name=0, source=None, constants=tuple(constants), alfa=(), omega=(),
-                   goals=(Goal(0, 1, Span(0, 0)),), actions=(Action(1, Span(0, 0)),),
-                   blocks=(Block(kind, None, 0, Span(0, 0)),), code=bytes(asm.code))
+                   goals=(GoalRecord(0, 1, Span(0, 0)),), actions=(ActionRecord(1, Span(0, 0)),),
+                   blocks=(BlockRecord(kind, None, 0, Span(0, 0)),), code=bytes(asm.code))
 
 
 def invalid(program: Program, match: str) -> None:

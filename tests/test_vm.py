@@ -325,7 +325,7 @@ def test_a_var_and_an_att_hold_texts_whatever_value_the_stack_gives() -> None:
     constant, which codegen never writes. VARs and ATTs hold texts (docs/rules.md), and the
     trace's bindings are texts (schemas/trace.schema.json): the number is stored as its text."""
     from scriptc.bytecode.code import Assembler, JumpTarget
-    from scriptc.bytecode.program import Action, Block, Goal, Num, Program
+    from scriptc.bytecode.program import ActionRecord, BlockRecord, GoalRecord, Num, Program
     from scriptc.source import Span
 
     asm = Assembler()
@@ -339,8 +339,9 @@ def test_a_var_and_an_att_hold_texts_whatever_value_the_stack_gives() -> None:
     asm.place(fail)
     asm.emit("NEXT_BLOCK")
     program = Program(name=0, source=None, constants=("x", Num(2.0, "2.0"), "@n", "?k", "mood"),
-                      alfa=(), omega=(), goals=(Goal(0, 1, Span(0, 0)),),
-                      actions=(Action(1, Span(0, 0)),), blocks=(Block("J", None, 0, Span(0, 0)),),
+                      alfa=(), omega=(), goals=(GoalRecord(0, 1, Span(0, 0)),),
+                      actions=(ActionRecord(1, Span(0, 0)),),
+                      blocks=(BlockRecord("J", None, 0, Span(0, 0)),),
                       code=bytes(asm.code))
     executor = program_from_bytecode(bytecode.verify(program)).executor()
     executor.start()

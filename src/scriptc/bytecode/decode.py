@@ -18,12 +18,12 @@ from typing import Any
 from scriptc.bytecode import container as L
 from scriptc.bytecode.errors import MalformedError
 from scriptc.bytecode.program import (
-    Action,
-    Block,
+    ActionRecord,
+    BlockRecord,
     CodeSpan,
     Constant,
-    Goal,
-    Message,
+    GoalRecord,
+    MessageRecord,
     Num,
     Program,
 )
@@ -190,30 +190,35 @@ def _opt(index: int) -> int | None:
     return None if index == L.NONE else index
 
 
-def _script(r: _Reader) -> tuple[int, int | None, tuple[Message, ...], tuple[Message, ...]]:
+Messages = tuple[MessageRecord, ...]  # a script's alfa or omega list
+
+
+def _script(r: _Reader) -> tuple[int, int | None, Messages, Messages]:
     name, source, n_alfa, n_omega = r.records(L.SCRIPT_HEAD, 1, "the script head")[0]
     if (n_alfa + n_omega) * L.MESSAGE.size != r.end - r.pos:
         raise MalformedError(f"the script section announces {n_alfa} alfa and {n_omega} "
                              f"omega messages, but holds {r.end - r.pos} bytes of messages",
                              r.pos)
     rows = r.records(L.MESSAGE, n_alfa + n_omega, "the messages")
-    messages = [Message(code, id_, inp, out, chr(action), chr(mutex), Span(s, e))
+    messages = [MessageRecord(code, id_, inp, out, chr(action), chr(mutex), Span(s, e))
                 for code, id_, inp, out, action, mutex, s, e in rows]
     r.done()
     return name, _opt(source), tuple(messages[:n_alfa]), tuple(messages[n_alfa:])
 
 
-def _blocks(r: _Reader) -> tuple[tuple[Goal, ...], tuple[Action, ...], tuple[Block, ...]]:
+def _blocks(r: _Reader) -> tuple[tuple[GoalRecord, ...], tuple[ActionRecord, ...],
+                                 tuple[BlockRecord, ...]]:
     n_goals, n_actions, n_blocks = r.records(L.BLOCK_COUNTS, 1, "the block counts")[0]
     size = n_goals * L.GOAL.size + n_actions * L.ACTION.size + n_blocks * L.BLOCK.size
     if size != r.end - r.pos:
         raise MalformedError(f"the blocks section announces {n_goals} goals, {n_actions} "
                              f"actions and {n_blocks} blocks ({size} bytes), but holds "
                              f"{r.end - r.pos} bytes of records", r.pos)
-    goals = tuple(Goal(i, n, Span(s, e)) for i, n, s, e in r.records(L.GOAL, n_goals, "goals"))
-    actions = tuple(Action(n, Span(s, e))
+    goals = tuple(GoalRecord(i, n, Span(s, e))
+                  for i, n, s, e in r.records(L.GOAL, n_goals, "goals"))
+    actions = tuple(ActionRecord(n, Span(s, e))
                     for n, s, e in r.records(L.ACTION, n_actions, "actions"))
-    blocks = tuple(Block(chr(kind), _opt(label), code, Span(s, e))
+    blocks = tuple(BlockRecord(chr(kind), _opt(label), code, Span(s, e))
                    for kind, label, code, s, e in r.records(L.BLOCK, n_blocks, "blocks"))
     r.done()
     return goals, actions, blocks

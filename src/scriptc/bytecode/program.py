@@ -14,7 +14,8 @@ from typing import NamedTuple
 from scriptc.bytecode.opcodes import BLOCK_KINDS
 from scriptc.source import Span
 
-__all__ = ["Action", "Block", "CodeSpan", "Constant", "Goal", "Message", "Num", "Program"]
+__all__ = ["ActionRecord", "BlockRecord", "CodeSpan", "Constant", "GoalRecord", "MessageRecord",
+           "Num", "Program"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -31,7 +32,7 @@ Constant = str | Num
 
 
 @dataclass(frozen=True, slots=True)
-class Message:
+class MessageRecord:
     """An alfa or omega rule message; `id`, `intopic`, `outtopic` are text constants."""
 
     rulecode: int
@@ -44,20 +45,20 @@ class Message:
 
 
 @dataclass(frozen=True, slots=True)
-class Goal:
+class GoalRecord:
     id: int  # text constant
     actions: int  # how many consecutive action records are this goal's
     span: Span
 
 
 @dataclass(frozen=True, slots=True)
-class Action:
+class ActionRecord:
     blocks: int  # how many consecutive block records are this action's
     span: Span
 
 
 @dataclass(frozen=True, slots=True)
-class Block:
+class BlockRecord:
     kind: str  # a letter of BLOCK_KINDS
     label: int | None  # text constant
     code: int  # offset of the block's first instruction
@@ -93,11 +94,11 @@ class Program:
     name: int  # text constant: the activity name
     source: int | None  # text constant: the source file's name
     constants: tuple[Constant, ...]
-    alfa: tuple[Message, ...]
-    omega: tuple[Message, ...]
-    goals: tuple[Goal, ...]
-    actions: tuple[Action, ...]
-    blocks: tuple[Block, ...]
+    alfa: tuple[MessageRecord, ...]
+    omega: tuple[MessageRecord, ...]
+    goals: tuple[GoalRecord, ...]
+    actions: tuple[ActionRecord, ...]
+    blocks: tuple[BlockRecord, ...]
     code: bytes
     # Offsets (code points) where each line of the source starts: line/column of any span
     # without the source. Empty when the program was compiled without its source text.

@@ -36,12 +36,12 @@ from itertools import starmap
 from scriptc.bytecode.code import Assembler, JumpTarget
 from scriptc.bytecode.encode import encode
 from scriptc.bytecode.program import (
-    Action,
-    Block,
+    ActionRecord,
+    BlockRecord,
     CodeSpan,
     Constant,
-    Goal,
-    Message,
+    GoalRecord,
+    MessageRecord,
     Num,
     Program,
 )
@@ -173,13 +173,13 @@ class _Codegen(ConditionVisitor):
         name = self.text(script.name.text)
         alfa = tuple(self.message(m) for m in script.alfa)
         omega = tuple(self.message(m) for m in script.omega)
-        goals: list[Goal] = []
-        actions: list[Action] = []
-        blocks: list[Block] = []
+        goals: list[GoalRecord] = []
+        actions: list[ActionRecord] = []
+        blocks: list[BlockRecord] = []
         for goal in script.goals:
-            goals.append(Goal(self.text(goal.id.text), len(goal.actions), Span(*goal.span)))
+            goals.append(GoalRecord(self.text(goal.id.text), len(goal.actions), Span(*goal.span)))
             for action in goal.actions:
-                actions.append(Action(len(action.blocks), Span(*action.span)))
+                actions.append(ActionRecord(len(action.blocks), Span(*action.span)))
                 for block in action.blocks:
                     blocks.append(self.block(block, len(blocks)))
         # The source's name comes last, so that the rest of the program (the code above all)
@@ -203,8 +203,8 @@ class _Codegen(ConditionVisitor):
             spans=tuple(starmap(CodeSpan, self.asm.spans)),
         )
 
-    def message(self, m: RuleMessage) -> Message:
-        return Message(
+    def message(self, m: RuleMessage) -> MessageRecord:
+        return MessageRecord(
             rulecode=self.whole(m.rulecode, "the rulecode"),
             id=self.text(m.id.text),
             intopic=self.text(m.intopic.value),
@@ -214,7 +214,7 @@ class _Codegen(ConditionVisitor):
             span=Span(*m.span),
         )
 
-    def block(self, block: ir.Block, index: int) -> Block:
+    def block(self, block: ir.Block, index: int) -> BlockRecord:
         asm = self.asm
         start = asm.offset
         label = block.label
@@ -285,7 +285,7 @@ class _Codegen(ConditionVisitor):
             asm.emit("NEXT_BLOCK")
         else:
             raise TypeError(f"not a block: {block!r}")
-        return Block(kind, label_index, start, Span(*span))
+        return BlockRecord(kind, label_index, start, Span(*span))
 
     # -- conditions ---------------------------------------------------------------------------
 

@@ -55,7 +55,7 @@ from typing import Any, overload
 
 from scriptc.bytecode.code import Instruction
 from scriptc.bytecode.opcodes import BY_CODE, BY_NAME, KINDS
-from scriptc.bytecode.program import Message, Num
+from scriptc.bytecode.program import MessageRecord, Num
 from scriptc.bytecode.verify import Verified
 from scriptc.runtime.bindings import READER
 from scriptc.runtime.commands import (
@@ -294,7 +294,7 @@ class VMProgram:
             p: i for i, p in enumerate(self.positions)}
         self.blocks = [self._block(i, listing) for i, listing in enumerate(verified.instructions)]
 
-    def _message(self, kind: str, m: Message) -> RuleMessage:
+    def _message(self, kind: str, m: MessageRecord) -> RuleMessage:
         text = self.bytecode.text
         return RuleMessage(kind, m.rulecode, text(m.id), text(m.intopic), text(m.outtopic),
                            m.action, m.mutex)
