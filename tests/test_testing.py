@@ -361,3 +361,167 @@ def test_the_schema_agrees_with_the_code() -> None:
     expect = schema()["$defs"]["expect"]["properties"]
     assert tuple(expect["outcome"]["enum"]) == OUTCOMES
     assert set(expect) == {key for keys in KINDS.values() for key in keys} | {"name"}
+
+
+# -- the verdicts, one rule at a time -------------------------------------------------------------
+
+
+def _judge(text: str, events=(), *, states=(), final=None, outcome="completed", time_ms=10_000):
+    """The verdicts of the expectations of `text` (after a `scripts` line) over a run made of
+    `events` (`(t, kind, fields)`), observed `states`, the `final` state and the end."""
+    from scriptc.testing.expect import Run, judge
+    from scriptc.testing.read import test_from_text
+
+    read = test_from_text(f'scripts = ["{EXAMPLES / "greeting.script"}"]\n{text}',
+                          str(ROOT / "t.test.toml"))
+    assert read.test is not None, read.diagnostics
+    trace = [{"t": t, "event": kind, **fields} for t, kind, fields in events]
+    return judge(read.test.expectations,
+                 Run(trace, {s.t: s for s in states}, final, outcome, time_ms))
+
+
+def _state(t=0, *, x=0.0, led=None, audio=None, block=None):
+    from scriptc.robot.motion import Pose
+    from scriptc.runtime.loop import Observation
+
+    return Observation(t, Pose(x, 0.0, 0.0), led, audio, block,
+                       None if block is None else "goal0/act0/blk0",
+                       None if block is None else "s")
+
+
+BLOCKS = [(1000, "block", {"label": "a"}), (2000, "block", {"label": "b"}),
+          (3000, "block", {"label": "a"})]
+
+
+@pytest.mark.parametrize(("count", "within", "passed"), [
+    ('">=2"', "[0, 3000]", True), ('">=2"', "[0, 2999]", False), ('"2"', "[1000, 3000]", True),
+    ('"1"', "[1001, 3000]", True), ('"<=1"', "[0, 3000]", False), ('"<=1"', "[1000, 2999]", True),
+    ('"0"', "[1001, 2999]", True), ("0", "[3000, 3000]", False), ('" >= 3 "', "[0, 9000]", False),
+])
+def test_a_count_over_a_window_with_both_ends_included(count: str, within: str,
+                                                       passed: bool) -> None:
+    (verdict,) = _judge(f'[[expect]]\nevent = "block"\nwhere = {{ label = "a" }}\n'
+                        f'count = {count}\nwithin = {within}\n', BLOCKS)
+    assert verdict.passed is passed
+
+
+def test_too_few_shows_the_matching_outside_the_window_first() -> None:
+    (verdict,) = _judge('[[expect]]\nevent = "block"\nwhere = { label = "a" }\n'
+                        'within = [1500, 2500]\n', BLOCKS)
+    assert not verdict.passed and verdict.found == "0"
+    assert verdict.notes[0] == "the nearest `block` events:"
+    # both `a` events are outside (500 ms before and after: the earlier first), then `b`
+    assert [n.split(":")[0] for n in verdict.notes[1:]] == ["at 1000 ms", "at 3000 ms",
+                                                             "at 2000 ms"]
+    assert verdict.notes[1].endswith("(outside the window)")
+    assert verdict.notes[3].endswith("(`label` differs)")
+
+
+def test_too_many_shows_the_first_matching_and_how_many_more() -> None:
+    events = [(t, "jump", {"value": True}) for t in range(0, 5000, 1000)]
+    (verdict,) = _judge('[[expect]]\nevent = "jump"\ncount = "<=1"\n', events)
+    assert verdict.found == "5"
+    assert verdict.notes == ("the matching events during the run:", 'at 0 ms: {"value": true}',
+                             'at 1000 ms: {"value": true}', 'at 2000 ms: {"value": true}',
+                             "and 2 more")
+
+
+def test_a_state_within_its_tolerances() -> None:
+    states = [_state(500, x=0.105, led=(0.2, 0.805, 0.3), audio="a.wav", block="go")]
+    text = ('[[expect]]\nat = 500\npose = {{ x = 0.1, tolerance = {tol} }}\n'
+            'led = [0.2, 0.8, 0.3]\naudio = "a.wav"\nblock = "go"\n')
+    (inside,) = _judge(text.format(tol=0.005), states=states)
+    (outside,) = _judge(text.format(tol=0.004), states=states)
+    assert inside.passed and not outside.passed
+    assert outside.found == "pose x 0.105"
+    assert outside.notes == ("the state at 500 ms: pose x 0.105, y 0, theta 0; led [0.2, "
+                             "0.805, 0.3]; audio `a.wav`; block `go` (goal0/act0/blk0 of `s`)",)
+    (green,) = _judge("[[expect]]\nat = 500\nled = [0.2, 0.79, 0.3]\n", states=states)
+    assert not green.passed and green.found == "led [0.2, 0.805, 0.3]"
+
+
+def test_off_is_nothing_lit_or_black_and_none_is_nothing() -> None:
+    dark = [_state(1, led=(0.0, 0.0, 0.0)), _state(2, led=None), _state(3, led=(0.0, 0.01, 0))]
+    verdicts = _judge("".join(f'[[expect]]\nat = {t}\nled = "off"\naudio = "none"\n'
+                              f'block = "none"\n' for t in (1, 2, 3)), states=dark)
+    assert [v.passed for v in verdicts] == [True, True, False]
+    (black,) = _judge("[[expect]]\nat = 1\nled = [0, 0, 0]\n", states=dark)
+    assert not black.passed  # black is dark, not a colour lit
+
+
+def test_a_state_after_the_end_is_not_known_but_the_end_is() -> None:
+    final = _state(6000, block=None)
+    late, end = _judge('[[expect]]\nat = 7000\nblock = "none"\n[[expect]]\nat = "end"\n'
+                       'block = "none"\n', final=final, time_ms=6000)
+    assert not late.passed and late.found == "the run ended at 6000 ms (`completed`)"
+    assert end.passed
+
+
+def test_outcome_and_time_bounds_are_included() -> None:
+    def verdict(time: str, outcome: str = "completed", ended: int = 5000) -> bool:
+        (v,) = _judge(f"[[expect]]\noutcome = \"{outcome}\"\ntime = {time}\n", time_ms=ended)
+        return v.passed
+
+    assert verdict("{ min = 5000, max = 5000 }") and verdict("{ max = 5000 }")
+    assert not verdict("{ min = 5001 }") and not verdict("{ max = 4999 }")
+    assert not verdict("{ max = 9000 }", outcome="until")
+
+
+def test_a_fatal_error_fails_a_test_unless_an_outcome_is_expected() -> None:
+    error = [(40, "error", {"code": "no-progress", "message": "stuck", "fatal": True})]
+    (implicit,) = _judge("", error, outcome="error", time_ms=40)
+    assert not implicit.passed and implicit.index is None
+    assert implicit.notes == ("at 40 ms: no-progress: stuck",)
+    (expected,) = _judge('[[expect]]\noutcome = "error"\n', error, outcome="error")
+    assert expected.passed
+    assert _judge('[[expect]]\ntime = { max = 50 }\n', error, outcome="error", time_ms=40)[1:]
+
+
+def _pose(t: int, objectid: str, rho, status: str = "applied") -> tuple:
+    return (t, "update", {"objectid": objectid, "attributename": "poses", "policy": "R",
+                          "value": {"positionrho": rho, "positiontheta": 0.0}, "status": status})
+
+
+def test_a_distance_holds_from_each_update_to_the_next() -> None:
+    updates = [_pose(0, "Human/a", 0.4), _pose(1000, "Human/a", 2.0),
+               _pose(1500, "Human/b", 0.3, status="dropped"), _pose(2000, "Object/c", 0.1),
+               _pose(3000, "Human/b", 0.8)]
+
+    def kept(to: str, within: str = "", low: float = 0.5) -> bool:
+        (v,) = _judge(f'[[expect]]\ndistance = {{ to = "{to}", min = {low} }}\n{within}',
+                      updates)
+        return v.passed
+
+    assert not kept("Human/a") and not kept("Human/*")
+    assert kept("Human/a", "within = [1000, 9000]")  # 0.4 m held until 1000 ms only
+    assert not kept("Human/a", "within = [999, 9000]")  # the 0.4 m of 0 ms holds at 999
+    assert kept("Human/b")  # the dropped update never reached the map
+    assert not kept("Human/b", low=0.9) and kept("Human/b", "within = [0, 2999]", low=0.9)
+    assert kept("Human/nobody")  # never placed: no distance
+    (v,) = _judge('[[expect]]\ndistance = { to = "Human/*", min = 0.5 }\n', updates)
+    assert v.found == "0.4 m from `Human/a` at 0 ms"
+
+
+def test_colours_only_on_demand() -> None:
+    from scriptc.testing.report import summary_line, test_line
+    from scriptc.testing.run import TestResult
+
+    passed = TestResult("a.test.toml", "", "passed", "scriptc run a.script", 1500, "completed")
+    assert test_line(passed, wall=False) == "PASS  a.test.toml (1.500 s simulated)\n"
+    assert test_line(passed, wall=False, color=True).startswith("\x1b[1;32mPASS \x1b[0m ")
+    failed = TestResult("b.test.toml", "", "error", "", reason="why")
+    assert test_line(failed, color=True) == "\x1b[1;31mERROR\x1b[0m b.test.toml: why\n"
+    assert summary_line([passed, failed]) == "1 passed, 1 error; 1.500 s simulated\n"
+    assert summary_line([passed], 12.25, color=True) == \
+        "\x1b[1;32m1 passed\x1b[0m; 1.500 s simulated in 12.2 s\n"
+
+
+def test_run_takes_a_test_files_world_or_says_what_is_wrong(activity: Path) -> None:
+    write(activity, {"w.test.toml": GREETS.replace('world = "greeting.world.json"\n', "")
+                     + "[world]\noperator = [{ at = 100, command = \"jump\" }]\n"})
+    result = scriptc("run", "greeting.script", "--world", "w.test.toml", "--robot", "kinematic")
+    assert result.exit_code == 2
+    assert "error[T005]: in `[world]`: operator[0].command: must be one of" in result.stderr
+    write(activity, {"w.test.toml": GREETS})
+    result = scriptc("run", "greeting.script", "--world", "w.test.toml", "--robot", "kinematic")
+    assert result.exit_code == 0 and "completed at 6000 ms" in result.stdout

@@ -287,6 +287,8 @@ def _distance(e: DistanceExpectation, run: Run) -> Verdict:
             before[event["objectid"]] = event
         elif e.within.end is None or t <= e.within.end:
             seen.append((float(rho), event))
+            if t == e.within.start:  # the value before held until the window, not in it
+                before.pop(event["objectid"], None)
     seen += [(float(event["value"]["positionrho"]), event) for event in before.values()]
     if not seen:
         return Verdict(e.index, e.name, True, expected, f"the run never placed `{e.to}`")
