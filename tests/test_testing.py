@@ -434,8 +434,8 @@ def test_a_state_within_its_tolerances() -> None:
     (outside,) = _judge(text.format(tol=0.004), states=states)
     assert inside.passed and not outside.passed
     assert outside.found == "pose x 0.105"
-    assert outside.notes == ("the state at 500 ms: pose x 0.105, y 0, theta 0; led [0.2, "
-                             "0.805, 0.3]; audio `a.wav`; block `go` (goal0/act0/blk0 of `s`)",)
+    assert outside.notes == (("the state at 500 ms: pose x 0.105, y 0, theta 0; led [0.2, "
+                             "0.805, 0.3]; audio `a.wav`; block `go` (goal0/act0/blk0 of `s`)"),)
     (green,) = _judge("[[expect]]\nat = 500\nled = [0.2, 0.79, 0.3]\n", states=states)
     assert not green.passed and green.found == "led [0.2, 0.805, 0.3]"
 
