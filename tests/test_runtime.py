@@ -15,7 +15,7 @@ from scriptc.analysis.analyze import analyze_bytes, analyze_file
 from scriptc.cli.main import cli
 from scriptc.frontend.script import lower_script
 from scriptc.runtime.bindings import Bindings
-from scriptc.runtime.commands import BlockCommands, Move, Position, compare, format_number
+from scriptc.runtime.commands import BlockAddress, BlockCommands, Move, compare, format_number
 from scriptc.runtime.evaluate import EvalContext, evaluate
 from scriptc.runtime.executor import End, Issue, SeekError
 from scriptc.runtime.functions import STANDARD_IMPLEMENTATIONS
@@ -485,17 +485,17 @@ def test_ir_executor_reads_seeks_and_ends() -> None:
     sink = Sink()
     executor.start()
     first = executor.read(ctx, sink)
-    assert isinstance(first, Issue) and first.position == Position(0, 0, 1)
+    assert isinstance(first, Issue) and first.position == BlockAddress(0, 0, 1)
     assert sink.seen == [("visit", "goal0/act0/blk0"), ("sensor", "goal0/act0/blk0", ("hi",)),
                          ("visit", "goal0/act0/blk1")]
     end = executor.read(ctx, sink)
-    assert isinstance(end, End) and end.how == "terminus" and end.position == Position(1, 0, 2)
-    executor.seek(Position(1, 0, 1))
+    assert isinstance(end, End) and end.how == "terminus" and end.position == BlockAddress(1, 0, 2)
+    executor.seek(BlockAddress(1, 0, 1))
     issue = executor.read(ctx, sink)
     assert issue.instruction.moves == (Move(1.0, 0.0, 0.0, 0, 5),)
     assert isinstance(executor.read(ctx, sink), End)
     with pytest.raises(SeekError):
-        executor.seek(Position(3, 0, 0))
+        executor.seek(BlockAddress(3, 0, 0))
     assert executor.goal_ids == ("a", "b") and executor.alfa == ()
 
 

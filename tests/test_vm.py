@@ -14,7 +14,7 @@ from scriptc import bytecode
 from scriptc.analysis.analyze import analyze_bytes
 from scriptc.ops.build import emit
 from scriptc.runtime.bindings import READER, Bindings
-from scriptc.runtime.commands import Position
+from scriptc.runtime.commands import BlockAddress
 from scriptc.runtime.evaluate import EvalContext, evaluate
 from scriptc.runtime.executor import End, Issue, SeekError
 from scriptc.runtime.functions import STANDARD_IMPLEMENTATIONS
@@ -81,25 +81,26 @@ def test_the_executor_interface() -> None:
     ex.start()
     sink, ctx = Sink(), context()
     first = ex.read(ctx, sink)
-    assert isinstance(first, Issue) and first.label == "a" and first.position == Position(0, 0, 0)
+    assert isinstance(first, Issue) and first.label == "a"
+    assert first.position == BlockAddress(0, 0, 0)
     assert first.instruction.moves[0].v_x == 0.1 and first.instruction.moves[0].duration == 500
     assert first.instruction.leds[0].turnas == 1
     assert first.instruction.audios[0].track_path == "Silence"
     second = ex.read(ctx, sink)
-    assert isinstance(second, Issue) and second.position == Position(1, 0, 0)
-    assert ex.read(ctx, sink) == End(Position(1, 0, 1), "terminus")
+    assert isinstance(second, Issue) and second.position == BlockAddress(1, 0, 0)
+    assert ex.read(ctx, sink) == End(BlockAddress(1, 0, 1), "terminus")
     assert sink.events == [
         ("visit", "goal0/act0/blk0"), ("visit", "goal0/act0/blk1"),
         ("sensor", "goal0/act0/blk1", ("hello", "world")), ("visit", "goal0/act0/blk2"),
         ("jump", "goal0/act0/blk2", '{VAR @v T F: str("x")} ! {E: eq(@v, "x")}', True,
          "goal1/act0/blk0"),
         ("visit", "goal1/act0/blk0"), ("visit", "goal1/act0/blk1")]
-    ex.seek(Position(0, 0, 2))
+    ex.seek(BlockAddress(0, 0, 2))
     sink.events.clear()
     assert isinstance(ex.read(ctx, sink), Issue)
     assert sink.events[0] == ("visit", "goal0/act0/blk2")
     with pytest.raises(SeekError):
-        ex.seek(Position(5, 0, 0))
+        ex.seek(BlockAddress(5, 0, 0))
 
 
 def test_running_past_the_last_block() -> None:
@@ -108,8 +109,8 @@ def test_running_past_the_last_block() -> None:
     ex.start()
     sink, ctx = Sink(), context()
     assert isinstance(ex.read(ctx, sink), Issue)
-    assert ex.read(ctx, sink) == End(Position(0, 0, 0), "past_end")
-    assert ex.read(ctx, sink) == End(Position(0, 0, 0), "past_end")
+    assert ex.read(ctx, sink) == End(BlockAddress(0, 0, 0), "past_end")
+    assert ex.read(ctx, sink) == End(BlockAddress(0, 0, 0), "past_end")
 
 
 def test_a_trap_is_a_fatal_error_in_the_trace_not_an_exception(monkeypatch) -> None:
@@ -347,7 +348,7 @@ def test_a_var_and_an_att_hold_texts_whatever_value_the_stack_gives() -> None:
     executor.start()
     sink, ctx = Sink(), context(1)
     ctx.bindings.bind("?k", ctx.world.entity("Human", "h0"), "U", READER)
-    assert executor.read(ctx, sink) == End(Position(0, 0, 0), "past_end")
+    assert executor.read(ctx, sink) == End(BlockAddress(0, 0, 0), "past_end")
     assert sink.events[-1][3] is True  # the true exit
     assert ctx.bindings.get_var("@n") == "2" and ctx.bindings.get_att("?k", "mood") == "2"
     assert ctx.bindings.snapshot() == {"?k": "Human/h0", "@n": "2", "?k>$mood": "2"}

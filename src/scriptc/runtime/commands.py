@@ -18,7 +18,7 @@ from scriptc.ir.fields import NUMBER_RE
 # Positions and commands
 
 
-class Position(NamedTuple):
+class BlockAddress(NamedTuple):
     """A block's address in its script: goal, action and block indices, all from 0."""
 
     goal: int

@@ -34,7 +34,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Generic, Protocol, TypeVar
 
-from scriptc.runtime.commands import BlockCommands, Position, RuleMessage
+from scriptc.runtime.commands import BlockAddress, BlockCommands, RuleMessage
 from scriptc.runtime.evaluate import EvalContext, Evaluation
 
 
@@ -42,7 +42,7 @@ from scriptc.runtime.evaluate import EvalContext, Evaluation
 class Issue:
     """An instruction block to issue to the actuators."""
 
-    position: Position
+    position: BlockAddress
     instruction: BlockCommands
     label: str = ""
 
@@ -51,7 +51,7 @@ class Issue:
 class End:
     """The script ends: `how` is "terminus" or "past_end" (ran past its last block)."""
 
-    position: Position | None
+    position: BlockAddress | None
     how: str
 
 
@@ -69,12 +69,12 @@ class ReadLimit(RuntimeError):
 class ReadSink(Protocol):
     """What an executor reports while reading (the session implements it)."""
 
-    def visit(self, position: Position) -> None: ...
+    def visit(self, position: BlockAddress) -> None: ...
 
-    def jump(self, position: Position, condition: str, evaluation: Evaluation,
-             target: Position | None) -> None: ...
+    def jump(self, position: BlockAddress, condition: str, evaluation: Evaluation,
+             target: BlockAddress | None) -> None: ...
 
-    def sensor(self, position: Position, payload: tuple[str, ...]) -> None: ...
+    def sensor(self, position: BlockAddress, payload: tuple[str, ...]) -> None: ...
 
 
 class Executor(Protocol):
@@ -84,11 +84,11 @@ class Executor(Protocol):
     alfa: tuple[RuleMessage, ...]
     omega: tuple[RuleMessage, ...]
     goal_ids: tuple[str, ...]
-    position: Position | None
+    position: BlockAddress | None
 
     def start(self) -> None: ...
 
-    def seek(self, position: Position) -> None: ...
+    def seek(self, position: BlockAddress) -> None: ...
 
     def read(self, ctx: EvalContext, sink: ReadSink, max_blocks: int = ...) -> ReadResult: ...
 
@@ -126,9 +126,9 @@ class ExecutorBase(Generic[P]):
         self.alfa = program.alfa
         self.omega = program.omega
         self.goal_ids = program.goal_ids
-        self.position: Position | None = None
+        self.position: BlockAddress | None = None
 
-    def _index_of(self, position: Position) -> int:
+    def _index_of(self, position: BlockAddress) -> int:
         i = self.program.index.get(position)
         if i is None:
             raise SeekError(f"`{self.name}` has no block {position.path}")

@@ -20,7 +20,7 @@ import math
 
 from scriptc.ir import nodes as ir
 from scriptc.runtime.bindings import READER
-from scriptc.runtime.commands import Audio, BlockCommands, Led, Move, Position, RuleMessage
+from scriptc.runtime.commands import Audio, BlockAddress, BlockCommands, Led, Move, RuleMessage
 from scriptc.runtime.evaluate import EvalContext, evaluate
 from scriptc.runtime.executor import End, ExecutorBase, Issue, ReadLimit, ReadResult, ReadSink
 
@@ -104,7 +104,7 @@ class IRExecutor(ExecutorBase[IRProgram]):
         self._next = 0
         self.position = None
 
-    def seek(self, position: Position) -> None:
+    def seek(self, position: BlockAddress) -> None:
         self._next = self._index_of(position)
 
     def _target(self, name: ir.Name | None, i: int) -> int:
@@ -112,7 +112,7 @@ class IRExecutor(ExecutorBase[IRProgram]):
             return i + 1
         j = self.program.labels.get(name.text)
         if j is None:
-            raise JumpTargetError(f"the jump at {Position(*self.program.blocks[i][0]).path} "
+            raise JumpTargetError(f"the jump at {BlockAddress(*self.program.blocks[i][0]).path} "
                                   f"names label `{name.text}`, which no block carries")
         return j
 
@@ -126,7 +126,7 @@ class IRExecutor(ExecutorBase[IRProgram]):
                 self._next = n
                 return End(self.position, "past_end")
             address, block = blocks[i]
-            position = Position(*address)
+            position = BlockAddress(*address)
             self.position = position
             sink.visit(position)
             if isinstance(block, ir.InstructionBlock):
@@ -138,7 +138,7 @@ class IRExecutor(ExecutorBase[IRProgram]):
                 evaluation = evaluate(block.condition, ctx)
                 j = self._target(block.true_target if evaluation.value else block.false_target, i)
                 sink.jump(position, self.program.conditions[i], evaluation,
-                          Position(*blocks[j][0]) if j < n else None)
+                          BlockAddress(*blocks[j][0]) if j < n else None)
                 i = j
             elif isinstance(block, ir.TerminusBlock):
                 self._next = n

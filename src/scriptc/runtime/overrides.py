@@ -19,7 +19,7 @@ from __future__ import annotations
 
 from scriptc.numbers import whole_number
 from scriptc.runtime.actuators import Actuators
-from scriptc.runtime.commands import Position
+from scriptc.runtime.commands import BlockAddress
 from scriptc.runtime.executor import SeekError
 from scriptc.runtime.goals import Goals
 from scriptc.runtime.loading import LoadError
@@ -74,7 +74,7 @@ class Overrides:
                 status.report(now, OVERRIDE, f"override by `{request.by}`: `{program.name}` "
                                              f"has no goal `{goal}`")
                 return
-        position = Position(goal, request.action, request.block)
+        position = BlockAddress(goal, request.action, request.block)
         self.trace.emit(now, "override", by=request.by,
                         script=executor.name if executor is not None else None,
                         to=program.name, at=position.path)

@@ -13,7 +13,7 @@ Events are written at the instant under way (`RunStatus.now`) in the running scr
 
 from __future__ import annotations
 
-from scriptc.runtime.commands import Position
+from scriptc.runtime.commands import BlockAddress
 from scriptc.runtime.evaluate import Evaluation
 from scriptc.runtime.executor import Executor
 from scriptc.runtime.goals import Goals
@@ -40,7 +40,7 @@ class ReaderSink:
         self.script = executor.name
         self.goal_ids = executor.goal_ids
 
-    def visit(self, position: Position) -> None:
+    def visit(self, position: BlockAddress) -> None:
         info = self.world.script
         info.goal, info.action, info.blockid = position
         info.path = position.path
@@ -48,13 +48,13 @@ class ReaderSink:
             info.goalid = self.goal_ids[position.goal]
         self.goals.visit(position.goal)
 
-    def jump(self, position: Position, condition: str, evaluation: Evaluation,
-             target: Position | None) -> None:
+    def jump(self, position: BlockAddress, condition: str, evaluation: Evaluation,
+             target: BlockAddress | None) -> None:
         self.trace.emit(self.status.now, "jump", script=self.script,
                         path=position.path, condition=condition, value=evaluation.value,
                         bindings=evaluation.bindings,
                         target=target.path if target is not None else None)
 
-    def sensor(self, position: Position, payload: tuple[str, ...]) -> None:
+    def sensor(self, position: BlockAddress, payload: tuple[str, ...]) -> None:
         self.trace.emit(self.status.now, "sensor", script=self.script,
                         path=position.path, payload=list(payload))

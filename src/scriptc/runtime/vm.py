@@ -60,10 +60,10 @@ from scriptc.bytecode.verify import Verified
 from scriptc.runtime.bindings import READER
 from scriptc.runtime.commands import (
     Audio,
+    BlockAddress,
     BlockCommands,
     Led,
     Move,
-    Position,
     RuleMessage,
     Value,
     compare_op,
@@ -289,7 +289,7 @@ class VMProgram:
         self.alfa = tuple(self._message("alfa", m) for m in bytecode.alfa)
         self.omega = tuple(self._message("omega", m) for m in bytecode.omega)
         self.goal_ids = tuple(text(g.id) for g in bytecode.goals)
-        self.positions = [Position(*a) for a in bytecode.addresses()]
+        self.positions = [BlockAddress(*a) for a in bytecode.addresses()]
         self.index: dict[tuple[int, int, int], int] = {
             p: i for i, p in enumerate(self.positions)}
         self.blocks = [self._block(i, listing) for i, listing in enumerate(verified.instructions)]
@@ -362,7 +362,7 @@ class VMExecutor(ExecutorBase[VMProgram]):
         self._pc = None
         self.position = None
 
-    def seek(self, position: Position) -> None:
+    def seek(self, position: BlockAddress) -> None:
         self._block = self._index_of(position)
         self._pc = None
 
