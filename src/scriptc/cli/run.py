@@ -40,9 +40,10 @@ if TYPE_CHECKING:
     from scriptc.runtime.scenario import Scenario
 
 
-class Refused(CliError):
-    """A file that is read but refused (bytecode that is malformed or invalid): exit 1, as for a
-    script with errors."""
+class ProgramRefused(CliError):
+    """`ops.programs.Refused` as the CLI shows it: a file that is read but refused (bytecode
+    that is malformed or invalid, a script the bytecode cannot hold): exit 1, as for a script
+    with errors."""
 
     exit_code = 1
 
@@ -125,7 +126,7 @@ def command(ctx: click.Context, files: tuple[str, ...], world: str | None, until
     except ReadError as exc:
         raise CliError(str(exc)) from None
     except programs.Refused as exc:
-        raise Refused(str(exc)) from None
+        raise ProgramRefused(str(exc)) from None
     if any(a.diagnostics for a in loaded.analyses):
         show([a for a in loaded.analyses if a.diagnostics], err=True)
     if not loaded.ok:
