@@ -93,7 +93,7 @@ class Executor(Protocol):
     def read(self, ctx: EvalContext, sink: ReadSink, max_blocks: int = ...) -> ReadResult: ...
 
 
-class Program(Protocol):
+class ExecutableProgram(Protocol):
     """What `ExecutorBase` reads of a program (an `IRProgram`, a `VMProgram`): the script's
     name, messages and goal ids, and the index of each block by its position."""
 
@@ -113,7 +113,7 @@ class Program(Protocol):
     def index(self) -> Mapping[tuple[int, int, int], int]: ...
 
 
-P = TypeVar("P", bound=Program)
+P = TypeVar("P", bound=ExecutableProgram)
 
 
 class ExecutorBase(Generic[P]):
