@@ -318,3 +318,104 @@ def test_the_examples_folder_is_clean_as_a_whole() -> None:
     assert linted.exit_code == 0 and linted.stdout == "", linted.output
     formatted = run("fmt", "--check", str(EXAMPLES))
     assert formatted.exit_code == 0, formatted.output
+
+
+# The examples' own tests (examples/tests/*.test.toml): what `scriptc test examples/` runs. They
+# pass, every activity has some, and they pin what each activity is for: breaking an activity's
+# behaviour (one edit of its script, below) fails exactly the tests that say it.
+
+EXAMPLE_TESTS = EXAMPLES / "tests"
+
+
+def _run_example_tests(folder: Path, keyword: str | None = None):
+    from scriptc.ops.test import TestOptions, test_paths
+
+    return test_paths([str(folder)], TestOptions(jobs=1, keyword=keyword))
+
+
+def test_every_example_has_tests_and_they_pass() -> None:
+    from scriptc.testing.model import EventExpectation
+    from scriptc.testing.run import PASSED
+
+    run = _run_example_tests(EXAMPLES)
+    assert (run.problems, run.invalid) == ([], [])
+    assert [(r.path, r.status) for r in run.results if r.status != PASSED] == []
+    assert run.exit_code == 0 and len(run.results) == len(run.tests) >= 2 * len(ACTIVITIES)
+    tested = {Path(script).stem for test in run.tests for script in test.scripts}
+    assert tested == set(ACTIVITIES)
+    for test in run.tests:
+        assert Path(test.path).parent == EXAMPLE_TESTS, test.path
+        # Real expectations: more than "it runs", and more than the trace's events alone.
+        assert len(test.expectations) >= 3, test.path
+        assert not all(isinstance(e, EventExpectation) for e in test.expectations), test.path
+    # examples/README.md says what each example's tests pin, naming every test file.
+    readme = (EXAMPLES / "README.md").read_text(encoding="utf-8")
+    for test in run.tests:
+        assert f"tests/{Path(test.path).name}" in readme, test.path
+
+
+def test_scriptc_test_examples_passes_through_the_cli(monkeypatch) -> None:
+    monkeypatch.chdir(ROOT)
+    result = run("test", "examples", "-j", "1")
+    assert result.exit_code == 0, result.output
+    count = len(list(EXAMPLE_TESTS.glob("*.test.toml")))
+    assert result.stdout.count("PASS  examples/tests/") == count
+    assert re.search(rf"^{count} passed; ", result.stdout, re.MULTILINE), result.stdout
+
+
+# (activity, text of its script, what replaces it wherever it is, the tests that must then fail):
+# each edit breaks one thing the activity is for.
+BREAKS = [
+    ("greeting", "OP< 1.5", "OP< 1.0",  # a child at 1.2 m is no longer greeted
+     {"greeting"}),
+    ("greeting", "OP> 30000", "OP> 60000",  # waits a minute for nobody
+     {"greeting_nobody"}),
+    ("greeting", '"0, 0, -0.5, 0, 850"', '"0, 0, -0.5, 0, 700"',  # the wiggle does not come back
+     {"greeting"}),
+    ("approach", "near(3.0)", "near(2.0)",  # does not react to the child 2.475 m away at 0 ms
+     {"approach", "approach_child_stays"}),
+    ("approach", "OP< 1.0)", "OP< 0.5)",  # drives into the child's last metre
+     {"approach", "approach_child_stays"}),
+    ("approach", 'MV("0.2, 0, 0, 100, 500")', 'MV("0.2, 0, 0, 100, 600")',  # 12 cm steps
+     {"approach", "approach_child_stays"}),
+    ("approach", "TRJMP() FLSJMP(pause)", "TRJMP() FLSJMP()",  # steps towards nobody
+     {"approach_nobody"}),
+    ("imitation", '[b#demo2#blk_inst: MV("0, 0, 0.8, 150, 850", "0, 0, -0.8, 0, 850")',
+     '[b#demo2#blk_inst: MV("0, 0, 0.8, 150, 850", "0, 0, -0.8, 0, 700")',  # ends turned away
+     {"imitation", "imitation_early_move"}),
+    ("imitation", "! {E: gt(?kid>&positionchangetime, @shown)}", "! {TRUE}",  # any child copies
+     {"imitation", "imitation_early_move"}),
+    ("joint_attention", "TRJMP(shared) FLSJMP()", "TRJMP(shared) FLSJMP(bye)",  # prompts once
+     {"joint_attention", "joint_attention_child_stays"}),
+    ("joint_attention", 'MV("0, 0, -0.6, 100, 1000")', "MV()",  # does not turn back
+     {"joint_attention_child_stays"}),
+    ("turn_taking", "! {E: gt(?ball>&positionchangetime, @pushed)}", "! {TRUE}",  # any return wins
+     {"turn_taking_ball_back_early"}),
+    ("turn_taking", '[b#push#blk_inst: MV("0.2, 0, 0, 100, 850", "-0.2, 0, 0, 0, 850")',
+     '[b#push#blk_inst: MV("0.2, 0, 0, 100, 850")',  # the first push does not come back
+     {"turn_taking", "turn_taking_ball_back_early"}),
+    ("reward_dance", "(B: near(2.0))", "(B: near(0.5))",  # no encore for the child at 1 m
+     {"reward_dance"}),
+    ("reward_dance", '"0.9, 0.8, 0.2, 1, 200, 300",', '"0.9, 0.8, 0.2, 1, 0, 300",',  # no dark gap
+     {"reward_dance"}),
+]
+
+
+@pytest.mark.parametrize(("name", "old", "new", "failing"), BREAKS,
+                         ids=[f"{b[0]}-{i}" for i, b in enumerate(BREAKS)])
+def test_breaking_an_example_fails_its_tests(name: str, old: str, new: str, failing: set[str],
+                                             tmp_path: Path) -> None:
+    import shutil
+
+    from scriptc.testing.run import FAILED, PASSED
+
+    shutil.copytree(EXAMPLES, tmp_path / "examples")
+    path = tmp_path / "examples" / f"{name}.script"
+    text = path.read_text(encoding="utf-8")
+    assert old in text, old
+    path.write_text(text.replace(old, new), encoding="utf-8")
+    result = _run_example_tests(tmp_path / "examples", keyword=f"{name}")
+    assert {r.status for r in result.results} <= {PASSED, FAILED}
+    assert {Path(r.path).name.removesuffix(".test.toml")
+            for r in result.results if r.status == FAILED} == failing
+    assert result.exit_code == 1
