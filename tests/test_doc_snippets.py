@@ -6,11 +6,11 @@ meant to run are written without a language, or as `text`; none of the Python on
 from __future__ import annotations
 
 import re
-import shlex
 import shutil
 from pathlib import Path
 
 import pytest
+from cli_words import scriptc_commands
 from click.testing import CliRunner
 
 from scriptc.cli.main import VERBS, cli
@@ -65,15 +65,7 @@ def test_the_executor_contract_shown_is_the_modules() -> None:
 
 
 def _commands() -> list[tuple[str, list[str]]]:
-    out = []
-    for where, code in SHELL:
-        for raw in code.splitlines():
-            line = raw.split(" #", 1)[0].strip()
-            for command in re.split(r"\s*(?:&&|\|\||;|\|)\s*", line):
-                words = shlex.split(command.split(" <", 1)[0].split(" >", 1)[0])
-                if words and words[0].endswith("scriptc"):
-                    out.append((where, words[1:]))
-    return out
+    return [(where, words) for where, code in SHELL for words in scriptc_commands(code)]
 
 
 COMMANDS = _commands()

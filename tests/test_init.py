@@ -28,7 +28,7 @@ def scaffold(tmp_path: Path, monkeypatch) -> Path:
     result = run("init", "repo")
     assert result.exit_code == 0, result.output
     assert result.stdout.splitlines() == [f"created {name}" for name, _ in FILES] + [
-        "next: cd repo && scriptc lint ."]
+        "next: cd repo && scriptc lint . && scriptc test"]
     return tmp_path / "repo"
 
 
@@ -77,6 +77,44 @@ def test_the_workflow_uploads_sarif_and_annotates(scaffold: Path) -> None:
     assert "Install scriptc" in text
 
 
+def test_the_workflow_lints_then_tests_with_the_real_cli(scaffold: Path) -> None:
+    """Each step of the workflow's job runs what the CLI has (verbs, options, choices: a
+    renamed option fails here); the tests run after the lints, even when a lint failed, as
+    long as scriptc was installed."""
+    import yaml
+    from cli_words import parse, scriptc_commands
+
+    workflow = yaml.safe_load((scaffold / ".github" / "workflows" / "scriptc.yml")
+                              .read_text(encoding="utf-8"))
+    (job,) = workflow["jobs"].values()
+    commands = [(step.get("name"), words) for step in job["steps"]
+                for words in scriptc_commands(step.get("run", ""))]
+    assert [(name, words[0]) for name, words in commands] == [
+        ("Lint (annotations)", "lint"), ("Lint (SARIF for code scanning)", "lint"),
+        ("Test", "test")]
+    for _name, words in commands:
+        parse(words)
+    (test_step,) = [step for step in job["steps"] if step.get("name") == "Test"]
+    assert test_step["if"] == "always() && steps.install.outcome == 'success'"
+    assert test_step["run"] == "scriptc test ."
+
+
+def test_the_scaffolds_test_passes_and_pins_the_example(scaffold: Path, monkeypatch) -> None:
+    """`scriptc test` in the new repository finds the example's test and passes; the test
+    fails when the example no longer greets the child of the scenario."""
+    monkeypatch.chdir(scaffold)
+    result = run("test")
+    assert result.exit_code == 0, result.output
+    assert result.stdout.startswith("PASS  activities/hello.test.toml (2.500 s simulated, ")
+    assert "1 passed; " in result.stdout
+    example = scaffold / "activities" / "hello.script"
+    text = example.read_text(encoding="utf-8")
+    example.write_text(text.replace("near(1.0)", "near(0.5)"), encoding="utf-8")
+    result = run("test")
+    assert result.exit_code == 1
+    assert "4 of 4 expectations failed" in result.stdout
+
+
 def test_pre_commit_configuration_runs_real_verbs(scaffold: Path) -> None:
     text = (scaffold / ".pre-commit-config.yaml").read_text(encoding="utf-8")
     entries = re.findall(r"entry: scriptc (\w+)", text)
@@ -99,7 +137,8 @@ def test_existing_files_are_never_overwritten(scaffold: Path) -> None:
 def test_init_in_the_working_folder_and_errors(tmp_path: Path, monkeypatch) -> None:
     monkeypatch.chdir(tmp_path)
     result = run("init")
-    assert result.exit_code == 0 and result.stdout.endswith("next: scriptc lint .\n")
+    assert result.exit_code == 0
+    assert result.stdout.endswith("next: scriptc lint . && scriptc test\n")
     (tmp_path / "file").write_text("x")
     refused = run("init", "file")
     assert refused.exit_code == 2 and "is not a folder" in refused.stderr

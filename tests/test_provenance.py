@@ -115,7 +115,7 @@ def init(tmp_path: Path, monkeypatch, record):
     result = CliRunner().invoke(cli, ["init", str(tmp_path / "repo")], catch_exceptions=False)
     assert result.exit_code == 0, result.output
     text = (tmp_path / "repo" / WORKFLOW_PATH).read_text(encoding="utf-8")
-    steps = {step.get("name"): step for step in yaml.safe_load(text)["jobs"]["lint"]["steps"]}
+    steps = {step.get("name"): step for step in yaml.safe_load(text)["jobs"]["scriptc"]["steps"]}
     return result, steps
 
 

@@ -1,11 +1,12 @@
 """`scriptc init [DIR]`: scaffold an activity repository.
 
-Writes a configuration (`scriptc.toml`), an example activity (`activities/hello.script`), a
-scenario for the simulator (`scenarios/hello.json`), a folder for audio tracks, a GitHub
-Actions workflow (annotations and code scanning, `.github/workflows/scriptc.yml`) and a
+Writes a configuration (`scriptc.toml`), an example activity (`activities/hello.script`) and
+its test (`activities/hello.test.toml`, run by `scriptc test`), a scenario for the simulator
+(`scenarios/hello.json`), a folder for audio tracks, a GitHub Actions workflow (lint with
+annotations and code scanning, then the tests: `.github/workflows/scriptc.yml`) and a
 pre-commit configuration (`.pre-commit-config.yaml`). DIR (default: the working folder) is
 created when missing. Existing files are never overwritten: each is named as skipped. The
-repository it writes lints clean (tests/test_init.py holds that).
+repository it writes lints clean and its test passes (tests/test_init.py holds that).
 
 The workflow installs the scriptc that runs `init`, as pip recorded where it came from
 (`scriptc.project.provenance`): a commit of a repository, a version of a package index. A
@@ -72,6 +73,39 @@ ACTIVITY = """\
     [b#done#blk_terminus]
 """
 
+# The example's test (docs/testing.md): what hello.script is for, in the scenario's world.
+TEST = """\
+# A test of hello.script (scriptc's docs/testing.md): in the scenario a child comes within a
+# metre at 0.5 s; the robot must greet them at once with a green flash and a half turn, and
+# end. `scriptc test` runs every *.test.toml of the repository, in simulated time.
+description = "hello: a child who comes within a metre is greeted with a green flash and a half turn"
+scripts = ["hello.script"]
+world = "../scenarios/hello.json"
+until = 60000
+
+[[expect]]
+name = "greets the child as soon as they are near"
+event = "block"
+where = { label = "greet" }
+within = [500, 500]
+count = "1"
+
+[[expect]]
+name = "a green flash"
+at = 750
+led = [0.0, 1.0, 0.0]
+
+[[expect]]
+name = "a half turn"
+at = "end"
+pose = { x = 0.0, y = 0.0, theta = 3.0 }
+
+[[expect]]
+name = "then it ends"
+outcome = "completed"
+time = { max = 5000 }
+"""  # noqa: E501 - the lines of the file `init` writes, as written
+
 SCENARIO = """\
 {
   "description": "A child walks up to the robot: half a second in, they are 0.8 m away, straight ahead.",
@@ -95,10 +129,11 @@ The activities' audio tracks go here (`audio-root` in scriptc.toml): a script pl
 """
 
 WORKFLOW = """\
-# Lint the activities on every push and pull request. Errors fail the job; every diagnostic
-# shows as an annotation on the changed lines (--format github) and as a code-scanning alert
-# (--format sarif, uploaded below). The second run reads the first one's cache, so it costs
-# almost nothing.
+# Lint and test the activities on every push and pull request. Lint errors fail the job; every
+# diagnostic shows as an annotation on the changed lines (--format github) and as a
+# code-scanning alert (--format sarif, uploaded below); the second lint reads the first one's
+# cache, so it costs almost nothing. Then the tests (*.test.toml) run in simulated time; a
+# failing test fails the job.
 name: scriptc
 
 on:
@@ -110,7 +145,7 @@ permissions:
   security-events: write  # to upload SARIF to code scanning
 
 jobs:
-  lint:
+  scriptc:
     runs-on: ubuntu-latest
     steps:
       - uses: actions/checkout@v4
@@ -122,7 +157,7 @@ jobs:
 <install>
       - name: Lint (annotations)
         run: scriptc lint . --format github
-      # The next two run even when the first lint found errors, but not without scriptc.
+      # The next steps run even when the first lint found errors, but not without scriptc.
       - name: Lint (SARIF for code scanning)
         if: always() && steps.install.outcome == 'success'
         # Exit status 1 (errors found) still leaves a SARIF file to upload; 2 does not.
@@ -133,6 +168,9 @@ jobs:
         with:
           sarif_file: scriptc.sarif
           category: scriptc
+      - name: Test
+        if: always() && steps.install.outcome == 'success'
+        run: scriptc test .
 """
 
 PRE_COMMIT = """\
@@ -183,6 +221,7 @@ WORKFLOW_PATH = ".github/workflows/scriptc.yml"
 FILES: tuple[tuple[str, str | Callable[[Provenance], str]], ...] = (
     ("scriptc.toml", CONFIG),
     ("activities/hello.script", ACTIVITY),
+    ("activities/hello.test.toml", TEST),
     ("scenarios/hello.json", SCENARIO),
     ("audio/README.md", AUDIO),
     (WORKFLOW_PATH, workflow),
@@ -219,7 +258,8 @@ def scaffold(folder: str, origin: Provenance | None = None) -> tuple[list[str], 
 @click.argument("folder", default=".", metavar="[DIR]")
 def command(folder: str) -> None:
     """Scaffold an activity repository in DIR (default: here): configuration, an example
-    activity and scenario, a CI workflow and pre-commit hooks. Existing files are kept."""
+    activity with its test and scenario, a CI workflow and pre-commit hooks. Existing files
+    are kept."""
     if os.path.exists(folder) and not os.path.isdir(folder):
         raise CliError(f"`{folder}` is not a folder")
     origin = provenance()
@@ -233,7 +273,7 @@ def command(folder: str) -> None:
     lines += [f"skipped {name} (it exists)" for name in skipped]
     if written:
         where = "" if os.path.abspath(folder) == os.getcwd() else f"cd {folder} && "
-        lines.append(f"next: {where}scriptc lint .")
+        lines.append(f"next: {where}scriptc lint . && scriptc test")
     write("".join(line + "\n" for line in lines))
     if WORKFLOW_PATH in written and origin.requirement() is None:
         write(f"warning: {WORKFLOW_PATH} cannot install scriptc: {origin.reason}. Edit its step "
