@@ -142,6 +142,7 @@ _BASES = ["", "src", "src/scriptc", "src/scriptc/runtime", "lsp/vscode", "tests/
 # in an activity repository, and examples of paths and patterns.
 _USERS_FILES = {
     "activities/greeting.script", "activities/greeting.json", "scenarios/greeting.json",
+    "activities/greeting.test.toml",
     "activities/", "audio/", "songs/hello.wav", "songs/...", "plugins/audio_control/songs/...",
     "out/dance_example.json", "out/dance_8.json", "./activities/x.script", "a/x.script",
     "/home/me/robot/activities/x.script", "/top.script", "dir/", ".vscode/settings.json",

@@ -304,6 +304,47 @@ def test_the_tutorial_works_as_written(tmp_path: Path, monkeypatch) -> None:
     assert Path("greeting.png").stat().st_size > 10_000
 
 
+def _wall_times_masked(output: str) -> str:
+    """`scriptc test`'s output without its wall-clock figures, which differ from run to run."""
+    return re.sub(r"(simulated, |simulated in )\d+\.\d+ s", r"\1N s", output)
+
+
+@pytest.mark.slow
+def test_the_tutorials_test_chapter_works_as_written(tmp_path: Path, monkeypatch) -> None:
+    """Step 8 of the tutorial, in the repository of steps 1 to 6: the test file as shown fails
+    as shown (the wall times aside), the change the text describes makes it pass as shown."""
+    tutorial = (DOCS / "tutorial.md").read_text(encoding="utf-8")
+    chapter = re.search(r"^## 8\. Test your activity\n(.*?)^## 9\. ", tutorial,
+                        re.MULTILINE | re.DOTALL).group(1)
+    (test_file,) = re.findall(r"```toml\n(.*?)```", chapter, re.DOTALL)
+    shown = re.findall(r"```sh\nscriptc test\n```\n\n```\n(.*?)```", chapter, re.DOTALL)
+    assert len(shown) == 2
+    before, after = re.search(r"`(LD\(\"[^`]*\"\))` instead of `(LD\(\"[^`]*\"\))`",
+                              chapter).group(2, 1)
+    (formatted,) = fenced("tutorial.md", "scriptc")
+    (scenario,) = fenced("tutorial.md", "json")
+
+    monkeypatch.chdir(tmp_path)
+    assert run("init", "my-activities").exit_code == 0
+    monkeypatch.chdir(tmp_path / "my-activities")
+    greeting = Path("activities/greeting.script")
+    greeting.write_text(formatted, encoding="utf-8")
+    Path("scenarios/greeting.json").write_text(scenario, encoding="utf-8")
+    Path("activities/greeting.test.toml").write_text(test_file, encoding="utf-8")
+
+    failed = run("test")
+    assert failed.exit_code == 1
+    assert _wall_times_masked(failed.stdout) == _wall_times_masked(shown[0])
+    assert formatted.count(before) == 1
+    greeting.write_text(formatted.replace(before, after), encoding="utf-8")
+    passed = run("test")
+    assert passed.exit_code == 0
+    assert _wall_times_masked(passed.stdout) == _wall_times_masked(shown[1])
+    assert run("lint", ".", "--no-cache").exit_code == 0  # the change keeps the script clean
+    selected = run("test", "-k", "greeting")
+    assert selected.exit_code == 0 and "1 passed; " in selected.stdout
+
+
 def test_approach_never_drives_towards_nobody(tmp_path: Path) -> None:
     summary, events = simulate("approach", tmp_path, None)
     assert summary["pose"]["x"] == 0.0
