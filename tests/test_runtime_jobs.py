@@ -338,6 +338,59 @@ def test_the_chain_pass_runs_each_rule_in_turn_and_survives_a_body_that_raises()
     assert not session.actuators.hold  # an empty chain holds nothing
 
 
+def test_a_rule_fires_when_its_condition_starts_to_hold_named_by_the_script_that_put_it() -> None:
+    class Near(Rule):
+        condition_text = "{CLASS #Human L ?kid (?THIS>&positionrho OP< 1.0)} ! {TRUE}"
+
+        def __eq__(self, other: object) -> bool:  # a library's rule may compare by value
+            return isinstance(other, Near)
+
+        __hash__ = None  # type: ignore[assignment]  (and be unhashable, as such classes are)
+
+        def on_true(self, ctx):
+            ctx.note("near")
+
+    library = STANDARD_RULES.extended()
+    library.register(71, "near", Near)
+    session = started(trace=Trace(), rules=library)
+    mutex = session.mutex
+
+    def place(now: int, rho: float) -> None:
+        session.world.post(parse_update("Human/kid", "poses", "R", {"positionrho": rho}))
+        session.updates.apply(now)
+
+    def fired() -> list[tuple[int, str, str]]:
+        return [(e["t"], e["script"], e["id"]) for e in session.trace.of_kind("rule_fire")]
+
+    mutex.hand_over(0, (RuleMessage("alfa", 71, "n", "", "", "A", "M"),
+                        RuleMessage("alfa", 0, "k", "", "", "A", "U")), "alfa", "plain")
+    mutex.pass_chain(1)  # `{TRUE}` holds on its first pass: it fires once, not on every pass
+    mutex.pass_chain(2)
+    assert fired() == [(1, "plain", "k")]
+    place(3, 0.5)
+    for now in (3, 4):  # the child stays close: one firing
+        mutex.pass_chain(now)
+    place(5, 2.0)
+    mutex.pass_chain(5)
+    place(6, 0.5)
+    mutex.pass_chain(6)  # it comes back: the rule fires again
+    assert fired() == [(1, "plain", "k"), (3, "plain", "n"), (6, "plain", "n")]
+    at_3 = [e["event"] for e in session.trace.events if e["t"] == 3]
+    assert at_3 == ["update", "rule_fire", "rule_note"]  # the firing, then its body
+    assert [e["t"] for e in session.trace.of_kind("rule_note")] == [3, 4, 6]
+    # Taken out and recovered by another script between two passes: its next pass is its
+    # first again, and the firing is that script's.
+    mutex.hand_over(7, (RuleMessage("omega", 71, "n", "", "", "R", "M"),), "omega", "plain")
+    mutex.hand_over(7, (RuleMessage("alfa", 71, "n", "", "", "C", "U"),), "alfa", "other")
+    mutex.pass_chain(8)
+    assert fired()[-1] == (8, "other", "n")
+    mutex.lock(9, "a test")  # a skipped pass changes nothing
+    mutex.pass_chain(9)
+    mutex.unlock(10, "a test")
+    mutex.pass_chain(10)
+    assert fired()[-1] == (8, "other", "n")
+
+
 # -- goal records -----------------------------------------------------------------------------
 
 

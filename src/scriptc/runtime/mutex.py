@@ -14,7 +14,10 @@ The chain pass (`Mutex.pass_chain`): skipped while locked (said once per lock); 
 active rule, in chain order, evaluates its condition (owning its `L` bindings, which end with
 its turn) and its body runs `on_true` or `on_false` with a `rules.RuleContext` over
 `RuleEffects`, the narrow door through which a body acts on the session. A body that raises is
-reported (`rule`) and the chain goes on. Motion is held for the pass iff a body asked.
+reported (`rule`) and the chain goes on. Motion is held for the pass iff a body asked. A rule
+fires (a `rule_fire` event, before its `on_true`) when its condition holds on a pass and did
+not on the rule's previous pass (or the rule had none in the chain): one event per time it
+starts to hold, not one per pass (a `{TRUE}` rule fires once), which is what coverage counts.
 """
 
 from __future__ import annotations
@@ -70,6 +73,10 @@ class RuleEffects:
                         **data)
 
 
+# The results of a message that put a rule in the chain (`RuleChain.apply`).
+_JOINED = ("added", "brought back", "recovered")
+
+
 class Mutex:
     """The chain of rules, its lock, the hand-over and the chain pass (see the module's
     docstring)."""
@@ -80,6 +87,8 @@ class Mutex:
         "chain",
         "ctx",
         "effects",
+        "holding",
+        "joined_by",
         "library",
         "skip_reported",
         "status",
@@ -97,6 +106,21 @@ class Mutex:
         self.actuators = actuators
         self.effects = effects
         self.skip_reported = False  # the skipped pass of this lock is in the trace
+        # The rules (by `id()`) whose condition held on their last pass in the chain: a rule
+        # fires (`rule_fire`) when its condition holds and it is not among them. Rules are
+        # known by identity, not by equality or hash (a library's rule class may define
+        # either); `joined_by` keeps every rule that joined the chain, so no identity is
+        # reused while the session runs.
+        self.holding: set[int] = set()
+        # The script whose message last put each rule (by `id()`) in the chain (`A`, or `B`
+        # and `C` bringing it back), named by its `rule_fire` events.
+        self.joined_by: dict[int, tuple[Rule, str]] = {}
+
+    def _joined(self, rule: Rule | None, script: str) -> None:
+        """`rule` joined the chain by a message of `script`: its next pass is its first."""
+        if rule is not None:
+            self.joined_by[id(rule)] = (rule, script)
+            self.holding.discard(id(rule))
 
     def _misuse(self, now: int, message: str) -> None:
         self.status.report(now, MUTEX_MISUSE, message)
@@ -123,6 +147,8 @@ class Mutex:
             except RuleError as exc:
                 self.status.report(now, RULE, f"`{m.id}` (rulecode {m.rulecode}): {exc}")
                 result, note, rule = "failed", None, None
+            if result in _JOINED:
+                self._joined(chain.find(m.id), script)
             fields = {"script": script, "message": kind, "rulecode": m.rulecode, "id": m.id,
                       "action": m.action, "mutex": m.mutex, "result": result}
             if note:
@@ -174,18 +200,25 @@ class Mutex:
             return
         actuators = self.actuators
         if not chain.active:
+            self.holding = set()
             if actuators.hold:
                 actuators.set_hold(now, False)
             return
         effects = self.effects
         effects.held = False
         ctx, bindings = self.ctx, self.bindings
+        holding, self.holding = self.holding, set()
         for rule in list(chain.active):
             ctx.begin(rule.id, now)
             evaluation = evaluate(rule.condition, ctx)
             rctx = RuleContext(effects, rule, now, evaluation)
             try:
                 if evaluation.value:
+                    self.holding.add(id(rule))
+                    if id(rule) not in holding:
+                        joined = self.joined_by.get(id(rule))
+                        self.trace.emit(now, "rule_fire", script=joined[1] if joined else "",
+                                        id=rule.id, rulecode=rule.rulecode)
                     rule.on_true(rctx)
                 else:
                     rule.on_false(rctx)

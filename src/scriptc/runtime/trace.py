@@ -20,9 +20,9 @@ Event = JSONObject
 
 # Every kind of event, in the order docs/runtime.md presents them.
 EVENT_KINDS = (
-    "session_start", "script_load", "script_unload", "rule", "mutex", "block", "cmd_start",
-    "cmd_stop", "block_done", "jump", "sensor", "terminus", "goal", "update", "operator",
-    "velocity", "rule_note", "override", "governor", "error", "session_end",
+    "session_start", "script_load", "script_unload", "rule", "rule_fire", "mutex", "block",
+    "cmd_start", "cmd_stop", "block_done", "jump", "sensor", "terminus", "goal", "update",
+    "operator", "velocity", "rule_note", "override", "governor", "error", "session_end",
 )
 
 
