@@ -368,17 +368,19 @@ def test_the_examples_folder_is_clean_as_a_whole() -> None:
 EXAMPLE_TESTS = EXAMPLES / "tests"
 
 
-def _run_example_tests(folder: Path, keyword: str | None = None):
+def _run_example_tests(folder: Path, keyword: str | None = None, executor: str = "vm"):
     from scriptc.ops.test import TestOptions, test_paths
 
-    return test_paths([str(folder)], TestOptions(jobs=1, keyword=keyword))
+    return test_paths([str(folder)], TestOptions(jobs=1, keyword=keyword, executor=executor))
 
 
-def test_every_example_has_tests_and_they_pass() -> None:
+@pytest.mark.parametrize("executor", ["vm", "ir"])
+def test_every_example_has_tests_and_they_pass(executor: str) -> None:
+    """Through the bytecode VM and through the reference interpreter alike."""
     from scriptc.testing.model import EventExpectation
     from scriptc.testing.run import PASSED
 
-    run = _run_example_tests(EXAMPLES)
+    run = _run_example_tests(EXAMPLES, executor=executor)
     assert (run.problems, run.invalid) == ([], [])
     assert [(r.path, r.status) for r in run.results if r.status != PASSED] == []
     assert run.exit_code == 0 and len(run.results) == len(run.tests) >= 2 * len(ACTIVITIES)

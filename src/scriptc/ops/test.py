@@ -9,7 +9,8 @@ processes and returns a `TestRun`; it prints nothing (the CLI renders the run wi
 - Checking: every test file found is read and checked (`scriptc.testing.read`); when one has
   a problem nothing runs (as pytest stops on an error while collecting), whatever `-k` says.
 - Selection: `-k TEXT` keeps the tests whose path, as shown, or description contains TEXT,
-  whatever the case.
+  whatever the case; then `--shard I/N` keeps the I-th part of those
+  (`scriptc.testing.shard`: the same split in every job, by recorded durations if any).
 - Running (`run_one`): a test's scripts are loaded as `scriptc run` loads them
   (`scriptc.ops.programs`: checked, compiled to bytecode, run by the VM, under their
   repository's configuration, functions, rules and robot profile), and its session run
@@ -23,7 +24,7 @@ processes and returns a `TestRun`; it prints nothing (the CLI renders the run wi
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 
 from scriptc.analysis.read import ReadError
@@ -43,6 +44,7 @@ from scriptc.project.files import discover
 from scriptc.testing.model import TestFile
 from scriptc.testing.read import SUFFIX, ReadTest, read_test
 from scriptc.testing.run import ERROR, FAILED, TestResult, replay_command, run_test
+from scriptc.testing.shard import Shard, in_shard
 
 __all__ = ["TestOptions", "TestRun", "run_one", "select", "test_paths"]
 
@@ -61,6 +63,10 @@ class TestOptions:
     executor: str = "vm"
     progress: Callable[[int, int], None] | None = None
     on_result: Callable[[int, TestResult], None] | None = None
+    # `--shard I/N`: run only this part of the tests selected, split by `durations` (the
+    # seconds each test took, by `scriptc.testing.shard.test_key`) when they are known.
+    shard: Shard | None = None
+    durations: Mapping[str, float] | None = None
 
 
 @dataclass
@@ -76,6 +82,7 @@ class TestRun:
     problems: list[str] = field(default_factory=list)
     invalid: list[ReadTest] = field(default_factory=list)
     tests: list[TestFile] = field(default_factory=list)
+    selected: int = 0  # how many tests `-k` selected, before the shard took its part
     results: list[TestResult] = field(default_factory=list)
     interrupted: bool = False
     wall_s: float = 0.0
@@ -128,6 +135,9 @@ def test_paths(paths: Sequence[str], options: TestOptions | None = None) -> Test
         run.wall_s = time.perf_counter() - started
         return run
     run.tests = select(run.tests, options.keyword)
+    run.selected = len(run.tests)
+    if options.shard is not None:
+        run.tests = in_shard(run.tests, options.shard, options.durations)
     run.checked_s = time.perf_counter() - started
     try:
         _run_all(run, options)
@@ -154,10 +164,13 @@ def _run_all(run: TestRun, options: TestOptions) -> None:
                 options.on_result(k, finished[k])
 
     jobs = options.jobs or available_cores()
+    if total:
+        # Once, before any test is timed: the first test would pay for the imports (its
+        # seconds are what `--durations` records and shards are balanced by).
+        _prepare(tests[0], options.executor)
     if jobs > 1 and total > 1:
         from concurrent.futures.process import BrokenProcessPool
 
-        _prepare(tests[0], options.executor)
         # Chunks of a few tests: fewer messages than one per test, and still eight chunks a
         # worker or more to even out the load (a test may be long).
         size = max(1, min(8, total // (8 * jobs)))
@@ -177,10 +190,10 @@ def _run_all(run: TestRun, options: TestOptions) -> None:
 
 
 def _prepare(test: TestFile, executor: str) -> None:
-    """What every worker would do first, done once here before they are forked: importing
-    the front ends, code generation, the runtime and the robot, and reading the grammar
-    (about 0.2 s a process otherwise). The first test's scripts are loaded for it; whatever
-    goes wrong there is the test's to report when it runs."""
+    """What every worker would do first, done once here before any test is timed and any
+    worker forked: importing the front ends, code generation, the runtime and the robot, and
+    reading the grammar (about 0.2 s a process otherwise). The first test's scripts are
+    loaded for it; whatever goes wrong there is the test's to report when it runs."""
     import contextlib
 
     with contextlib.suppress(Exception):

@@ -13,11 +13,12 @@ from collections.abc import Sequence
 from scriptc.diagnostics.codes import diagnostic
 from scriptc.diagnostics.model import Diagnostic
 from scriptc.diagnostics.render import paint, plural
+from scriptc.source import SourceFile
 from scriptc.testing.expect import Verdict
 from scriptc.testing.model import TestFile
 from scriptc.testing.run import ERROR, FAILED, PASSED, TestResult
 
-__all__ = ["failure", "failures", "summary_line", "test_line"]
+__all__ = ["diagnosed", "failure", "failures", "summary_line", "test_line"]
 
 _WORD = {PASSED: ("PASS ", "bold green"), FAILED: ("FAIL ", "bold red"),
          ERROR: ("ERROR", "bold red")}
@@ -39,6 +40,18 @@ def failure(test: TestFile, result: TestResult, verdict: Verdict) -> Diagnostic:
 def failures(test: TestFile, result: TestResult) -> list[Diagnostic]:
     """The diagnostics of every failed expectation of a result, in the file's order."""
     return [failure(test, result, v) for v in result.verdicts if not v.passed]
+
+
+def diagnosed(test: TestFile, result: TestResult
+              ) -> list[tuple[SourceFile, Sequence[Diagnostic]]]:
+    """What a result reports as diagnostics, file by file: a failed test's failed
+    expectations in its test file, a test that could not run the diagnostics of the files that
+    stopped it (nothing for a test that passed)."""
+    if result.status == FAILED:
+        return [(test.source, failures(test, result))]
+    if result.status == ERROR:
+        return [(source, list(diagnostics)) for source, diagnostics in result.problems]
+    return []
 
 
 def _seconds(s: float) -> str:
