@@ -14,7 +14,9 @@ parameters included, measured once per run over the whole suite), fastest first,
 interpreter whose `scriptc` is a copy of the source tree with that one change; it is *killed*
 when a test fails (or the tests time out: five times their normal duration), *survives* when
 they all pass, and counts as surviving when no test covers its line. The score of a module is
-killed / mutants.
+killed / mutants. The tests run in two pytest processes at most (collecting a test file costs
+about as much as running its tests): first those of the test files that killed most of the
+module's mutants so far, then, when they all pass, the others.
 
 The run works in a snapshot of the repository taken when it starts (tests, sources and data),
 so what others edit meanwhile does not change its figures (`--rev HEAD` takes a commit, with
@@ -317,6 +319,23 @@ def _limit_memory() -> None:
     resource.setrlimit(resource.RLIMIT_AS, (MEMORY_LIMIT, MEMORY_LIMIT))
 
 
+def _absent_plugins(work: Path) -> list[str]:
+    """`-p no:NAME` for each pytest plugin of the installed scriptc (an entry point of group
+    `pytest11`) whose module the copy `work` does not have (a commit from before the plugin):
+    pytest would fail to start, and every test with it."""
+    from importlib.metadata import entry_points
+
+    absent = []
+    for point in entry_points(group="pytest11"):
+        parts = point.value.split(":", 1)[0].split(".")
+        if parts[0] != "scriptc":
+            continue
+        where = work / "src" / Path(*parts)
+        if not where.with_suffix(".py").is_file() and not (where / "__init__.py").is_file():
+            absent += ["-p", f"no:{point.name}"]
+    return absent
+
+
 def _pytest(work: Path, plugins: Path, args: list[str], report: Path | None = None,
             timeout: float | None = None, capture: bool = False,
             coverage_rc: Path | None = None) -> subprocess.CompletedProcess:
@@ -329,7 +348,8 @@ def _pytest(work: Path, plugins: Path, args: list[str], report: Path | None = No
         [sys.executable, "-m", "coverage", "run", f"--rcfile={coverage_rc}", "-m", "pytest"]
     # Not check=True: pytest's status is the answer (tests failing kill the mutant).
     return subprocess.run([*runner, "-q", "-p", "no:cacheprovider", "-p", "mutate_profile",
-                           "--no-header", "-o", "addopts=", *args], check=False,
+                           *_absent_plugins(work), "--no-header", "-o", "addopts=", *args],
+                          check=False,
                           cwd=work, env=env, timeout=timeout, preexec_fn=_limit_memory,
                           stdout=subprocess.PIPE if capture else subprocess.DEVNULL,
                           stderr=subprocess.STDOUT if capture else subprocess.DEVNULL)
@@ -459,6 +479,17 @@ def remap(per_line: dict[int, set[str]], old: str, new: str) -> dict[int, set[st
     return moved
 
 
+def refreshed(test: str, arguments: list[str]) -> bool:
+    """Whether the node id `test` is one of those the pytest `arguments` (folders, files, node
+    ids with or without their parameters) select: its old entries give way to the new
+    measure, and a test gone since is dropped."""
+    for argument in arguments:
+        chosen = argument.rstrip("/")
+        if test == chosen or test.startswith((chosen + "::", chosen + "[", chosen + "/")):
+            return True
+    return False
+
+
 def load_map(args, work: Path, plugins: Path, modules: list[str]
              ) -> tuple[Lines, dict[str, float]]:
     """The coverage map: made now, or read from --map (moved onto the modules' text now, and
@@ -483,14 +514,13 @@ def load_map(args, work: Path, plugins: Path, modules: list[str]
         durations = saved["durations"]
         if args.refresh:
             fresh, fresh_durations = coverage_map(work, plugins, sorted(lines), args.refresh)
-            files = {t.split("::", 1)[0] for t in fresh_durations}
             for module, per in lines.items():
                 for line in list(per):
-                    per[line] = {t for t in per[line] if t.split("::", 1)[0] not in files}
+                    per[line] = {t for t in per[line] if not refreshed(t, args.refresh)}
                 for line, tests in fresh.get(module, {}).items():
                     per.setdefault(line, set()).update(tests)
             durations = {t: d for t, d in durations.items()
-                         if t.split("::", 1)[0] not in files} | fresh_durations
+                         if not refreshed(t, args.refresh)} | fresh_durations
     for module in lines:
         texts[module] = (work / module).read_text(encoding="utf-8")
     if args.map is not None:
@@ -504,27 +534,59 @@ def load_map(args, work: Path, plugins: Path, modules: list[str]
 # ---------------------------------------------------------------------------------------------
 # Running one mutant
 
-def run_mutant(mutant: Mutant, tests: list[str], timeout: float, work: Path,
-               plugins: Path) -> str:
+def run_mutant(mutant: Mutant, stages: list[list[str]], timeouts: list[float], work: Path,
+               plugins: Path) -> tuple[str, str | None]:
     """'killed', 'survived' or 'timeout' (a kill) for one mutant, in the copy `work`, running
-    `tests` (node ids that pass on the original) in the order given and stopping at the first
-    failure; 'uncovered' when no test runs its line."""
-    if not tests:
-        return "uncovered"
+    the `stages` of tests (node ids that pass on the original) one after the other, each in
+    the order given, and stopping at the first failure; 'uncovered' when no test runs its
+    line. With it, the test file that failed first (None when none did, or it is not known).
+
+    Stages only save time: a mutant is killed when any of its tests fails, whichever stage
+    holds it. Collecting a test file costs a pytest process about as much as running its
+    tests, so the files most likely to kill the mutant come first, alone."""
+    stages = [s for s in stages if s]
+    if not stages:
+        return "uncovered", None
     target = work / mutant.path
     original = target.read_text(encoding="utf-8")
     target.write_text(mutant.source, encoding="utf-8")
     try:
-        try:
-            result = _pytest(work, plugins, ["-x", *tests], timeout=timeout, capture=True)
-        except subprocess.TimeoutExpired:
-            return "timeout"
-        # The same tests passed on the original copy (the baseline), so any failure is the
-        # mutant's: a test failed (1), or collection broke (2; 4 when a test module's
-        # parameters, computed as it is collected, run the mutated code).
-        return "survived" if result.returncode == 0 else "killed"
+        for tests, timeout in zip(stages, timeouts, strict=False):
+            try:
+                result = _pytest(work, plugins, ["-x", *tests], timeout=timeout, capture=True)
+            except subprocess.TimeoutExpired:
+                return "timeout", None
+            # The same tests passed on the original copy (the baseline), so any failure is
+            # the mutant's: a test failed (1), or collection broke (2; 4 when a test module's
+            # parameters, computed as it is collected, run the mutated code).
+            if result.returncode != 0:
+                return "killed", _first_failure(result.stdout.decode(errors="replace"))
+        return "survived", None
     finally:
         target.write_text(original, encoding="utf-8")
+
+
+def _first_failure(output: str) -> str | None:
+    """The test file of the first `FAILED` (or `ERROR`) line of pytest's short summary."""
+    for line in output.splitlines():
+        for mark in ("FAILED ", "ERROR "):
+            if line.startswith(mark) and "::" in line:
+                return line[len(mark):].split("::", 1)[0]
+    return None
+
+
+def stages_of(tests: list[str], kills: dict[str, int]) -> list[list[str]]:
+    """`tests` in two stages: first those of the (at most two) test files that killed most
+    mutants of the module so far (at the start: the file with most of these tests), then the
+    others; each stage keeps the order of `tests`."""
+    per_file: dict[str, int] = {}
+    for t in tests:
+        name = t.split("::", 1)[0]
+        per_file[name] = per_file.get(name, 0) + 1
+    ranked = sorted(per_file, key=lambda f: (-kills.get(f, 0), -per_file[f], f))
+    first = set(ranked[:2]) if any(kills.get(f, 0) for f in ranked) else set(ranked[:1])
+    return [[t for t in tests if t.split("::", 1)[0] in first],
+            [t for t in tests if t.split("::", 1)[0] not in first]]
 
 
 @dataclass(frozen=True)
@@ -629,14 +691,18 @@ def main() -> None:
                 return sorted(hit & good, key=lambda t: (durations.get(t, 0.5), t))
 
             done: list[str] = []
+            kills: dict[str, int] = {}  # test file -> mutants of this module it killed first
 
             def one(m: Mutant, done: list[str] = done, found: list[Mutant] = found,
-                    module: str = module) -> tuple[Mutant, str]:
+                    module: str = module, kills: dict[str, int] = kills) -> tuple[Mutant, str]:
                 work = free.pop()
                 try:
-                    tests = tests_of(m)
-                    budget = sum(durations.get(t, 0.5) for t in tests)
-                    result = run_mutant(m, tests, max(20.0, 5 * budget + 10), work, plugins)
+                    stages = stages_of(tests_of(m), kills)
+                    timeouts = [max(60.0, 5 * sum(durations.get(t, 0.5) for t in s) + 30)
+                                for s in stages]
+                    result, killer = run_mutant(m, stages, timeouts, work, plugins)
+                    if killer is not None:
+                        kills[killer] = kills.get(killer, 0) + 1
                     done.append(result)
                     if args.progress:
                         print(f"  [{len(done)}/{len(found)}] {module}:{m.line}: {m.what}: "

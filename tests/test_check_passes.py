@@ -4,6 +4,7 @@ the decisions written in the explanations, and the public API."""
 
 from __future__ import annotations
 
+import dataclasses
 import subprocess
 import sys
 
@@ -64,6 +65,17 @@ def test_delayed_rules_need_no_undo():
     assert codes(text) == []
 
 
+def test_an_empty_letter_in_ir_built_by_hand_is_unknown():
+    """The front ends never give an empty action or mutex letter (a parse error comes first),
+    but the IR may be built by hand: M005 then says it found nothing."""
+    source = SourceFile("t.script", HEAD + '[alfa:1,a,"","",A,U]\n[omega:1,a,"","",R,L]\n' + TAIL)
+    script = analyze_script(source).script
+    alfa = script.alfa[0]
+    empty = dataclasses.replace(alfa, mutex=dataclasses.replace(alfa.mutex, text=""))
+    (d,) = check_script(dataclasses.replace(script, alfa=(empty,)), source)
+    assert (d.code, d.message, d.fix) == ("M005", "unknown mutex command nothing in alfa message",
+                                          None)
+
 # -- L: labels ------------------------------------------------------------------------------
 
 
@@ -73,6 +85,28 @@ def test_duplicate_label_points_at_the_first_definition():
     assert d.code == "L001"
     assert d.span.start > d.labels[0].span.start
     assert under(text, d) == "x" and d.labels[0].message == "`x` first defined here"
+
+
+def test_label_suggestions_stop_after_64_distinct_unknown_targets():
+    """Each suggestion is a difflib scan over every label: past 64 distinct unknown targets
+    (a script generated wrongly) the others get the plain help, so the pass stays linear. A
+    target met again keeps the suggestion it had."""
+    jumps = [f"[b##blk_jump: CND(! {{E: gt(1, 2)}}) TRJMP(targe{k}) FLSJMP()]"
+             for k in [*range(66), 0]]
+    found = [d for d in lint(blocks('[b#target#blk_inst: MV() LD() AO("Silence, 0, 100")]',
+                                    *jumps, "[b##blk_terminus]")) if d.code == "L003"]
+    suggested = [d.fix is not None and "`target`" in d.help for d in found]
+    assert suggested == [True] * 64 + [False, False, True]
+    assert found[64].help.startswith("add `targe64` as the label of a block")
+
+
+def test_goals_without_an_id_are_not_one_id_used_twice():
+    """A goal without an id is S007 (the front end's); the checks, run on such a script
+    through the API, do not call two of them one id used twice (L002)."""
+    source = SourceFile("t.script", "[a]\n" + TAIL.replace("goal:g", "goal:") * 2)
+    analysis = analyze_script(source)
+    assert [d.code for d in analysis.diagnostics] == ["S007", "S007"]
+    assert "L002" not in [d.code for d in check_script(analysis.script, source)]
 
 
 # -- F: flow --------------------------------------------------------------------------------
