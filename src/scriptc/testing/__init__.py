@@ -16,3 +16,14 @@ anything runs, its expectations judged over a run's trace and state, and one tes
 The package sits between `scriptc.ops` and the runtime: it builds and drives a `Session`, and
 knows nothing of how scripts are compiled or of the command line.
 """
+
+__all__ = ["SUFFIX", "is_test_file"]
+
+# What names a test file. Here, not in `read.py`, so that what only asks whether a file is a
+# test (pytest's plugin, for every file of a suite; the language server) imports nothing else.
+SUFFIX = ".test.toml"
+
+
+def is_test_file(path: str) -> bool:
+    """Whether `path` names a test file (`NAME.test.toml`)."""
+    return path.endswith(SUFFIX)

@@ -35,6 +35,7 @@ from scriptc.project.config.validate import TomlChecker
 from scriptc.runtime.scenario import Scenario, ScenarioError, load_scenario, scenario_from_tree
 from scriptc.runtime.trace import EVENT_KINDS
 from scriptc.source import SourceFile, Span
+from scriptc.testing import SUFFIX, is_test_file
 from scriptc.testing.model import (
     DEFAULT_ROBOT,
     DEFAULT_TOLERANCE,
@@ -53,8 +54,6 @@ from scriptc.testing.model import (
 
 __all__ = ["SUFFIX", "ReadTest", "is_test_file", "read_test", "test_from_text"]
 
-SUFFIX = ".test.toml"
-
 # The keys of each kind of expectation (`name` goes with all of them).
 KINDS: dict[str, tuple[str, ...]] = {
     "event": ("event", "where", "within", "count"),
@@ -67,10 +66,6 @@ _KIND_OF = {"event": "event", "at": "at", "outcome": "outcome", "time": "outcome
             "distance": "distance"}
 _COUNT = re.compile(r"\s*(>=|<=|==)?\s*([0-9]+)\s*")
 _ENTITY = re.compile(r"(Human|Object|Obstacle)/(\*|[^/*]+)")
-
-
-def is_test_file(path: str) -> bool:
-    return path.endswith(SUFFIX)
 
 
 @dataclass(frozen=True, slots=True)
