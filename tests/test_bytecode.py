@@ -19,6 +19,7 @@ from scriptc.bytecode import (
     FORMAT_VERSION,
     InvalidError,
     MalformedError,
+    Verified,
     decode,
     disassemble,
     encode,
@@ -325,6 +326,10 @@ def test_bad_constant_index(program: Program) -> None:
     text = program.constants.index("Silence")
     invalid(patched(program, move + 1, struct.pack("<I", text)), "is a text, not a number")
     invalid(dataclasses.replace(program, name=len(program.constants)), "activity name")
+    audio = code_offset(program, "AUDIO")
+    number = _number_at(program)
+    invalid(patched(program, audio + 1, struct.pack("<I", number)),
+            f"AUDIO: constant {number} is a number, not a text")
 
 
 def test_unknown_opcode(program: Program) -> None:
@@ -534,6 +539,173 @@ def test_number_constants_must_be_finite_and_match_their_text() -> None:
 
     invalid(one_block(end, "T", constants=("a", Num(2.0, "1"))), "does not match its text")
     invalid(one_block(end, "T", constants=("a", Num(float("inf"), "inf"))), "not a finite")
+
+
+def _first(program: Program, table: str, at: int = 0, **changes) -> Program:
+    """`program` with the record `at` of `table` changed."""
+    records = list(getattr(program, table))
+    records[at] = (records[at]._replace(**changes) if isinstance(records[at], tuple)
+                   else dataclasses.replace(records[at], **changes))
+    return dataclasses.replace(program, **{table: tuple(records)})
+
+
+def _number_at(program: Program) -> int:
+    return next(i for i, c in enumerate(program.constants) if isinstance(c, Num))
+
+
+# Each refusal of the tables and constants (docs/bytecode.md, "Verification"), made from the
+# golden program by one change: (the change, what the error says, whether the file format can
+# hold the change, so that `load` must refuse it too).
+TABLE_REFUSALS = {
+    "number written as no number": (
+        lambda p: dataclasses.replace(p, constants=(*p.constants, Num(1.0, "one"))),
+        r"the text 'one' of a number constant is not a number", True),
+    "constant of no kind": (
+        lambda p: dataclasses.replace(p, constants=(*p.constants, 3)),
+        "is neither a text nor a number", False),
+    "name that is a number": (
+        lambda p: dataclasses.replace(p, name=_number_at(p)), "is a number, not a text", True),
+    "goal id one past the constants": (
+        lambda p: _first(p, "goals", id=len(p.constants)),
+        "goal 0: constant index .* out of range", True),
+    "span ending before its start": (
+        lambda p: _first(p, "goals", span=Span(5, 2)),
+        r"goal 0: its source span ends \(2\) before it starts \(5\)", True),
+    "rulecode past u32": (
+        lambda p: _first(p, "alfa", rulecode=2**32), "rulecode 4294967296 is not a u32", False),
+    "negative rulecode": (
+        lambda p: _first(p, "alfa", rulecode=-1), "rulecode -1 is not a u32", False),
+    "unknown rule action": (
+        lambda p: _first(p, "alfa", action="Z"), "unknown rule action 'Z'", True),
+    "empty rule action": (
+        lambda p: _first(p, "alfa", action=""), "unknown rule action ''", False),
+    "two rule actions": (
+        lambda p: _first(p, "alfa", action="AR"), "unknown rule action 'AR'", False),
+    "empty mutex letter": (
+        lambda p: _first(p, "omega", mutex=""), "omega message 0: unknown mutex command ''",
+        False),
+    "two mutex letters": (
+        lambda p: _first(p, "omega", mutex="LM"), "unknown mutex command 'LM'", False),
+    "actions owning more blocks": (
+        lambda p: _first(p, "actions", blocks=p.actions[0].blocks + 1),
+        "the actions own .* blocks, but the table holds", True),
+    "first block after 0": (
+        lambda p: _first(p, "blocks", code=1), "the first block's code starts at 1, not 0",
+        True),
+    "last block past the code": (
+        lambda p: _first(p, "blocks", len(p.blocks) - 1, code=len(p.code)),
+        "past the end of the code", True),
+    "code without blocks": (
+        lambda p: dataclasses.replace(p, goals=(), actions=(), blocks=(), spans=()),
+        "bytes of code belong to no block", True),
+    "label that is a number": (
+        lambda p: _first(p, "blocks", label=_number_at(p)), "block 0's label: constant", True),
+    "line table from 1": (
+        lambda p: dataclasses.replace(p, lines=(1, 5)), r"line 1 starts at 1\)", True),
+    "first code span after 0": (
+        lambda p: _first(p, "spans", code=1),
+        "the first code span starts at code offset 1, not 0", True),
+    "code span before the text": (
+        lambda p: _first(p, "spans", 1, start=-1), "code span 1 starts at a negative", False),
+    "code spans out of order": (
+        lambda p: _first(p, "spans", 2, code=p.spans[1].code), "code span 2 is out of order",
+        True),
+    "code span ending before its start": (
+        lambda p: _first(p, "spans", 1, start=10, end=5),
+        r"code span 1: its source span ends \(5\) before it starts \(10\)", False),
+}
+
+
+@pytest.mark.parametrize("change, match, in_a_file", TABLE_REFUSALS.values(),
+                         ids=list(TABLE_REFUSALS))
+def test_every_refusal_of_the_tables(program: Program, change, match: str,
+                                     in_a_file: bool) -> None:
+    verify(program)
+    if in_a_file:
+        invalid(change(program), match)
+    else:
+        with pytest.raises(InvalidError, match=match):
+            verify(change(program))
+
+
+def test_operands_one_past_their_table(program: Program) -> None:
+    """An index equal to its table's length is out of range, as any beyond it."""
+    at = code_offset(program, "PUSH_CONST")
+    n = len(program.constants)
+    invalid(patched(program, at + 1, struct.pack("<I", n)),
+            f"constant index {n} out of range")
+    at = code_offset(program, "GOTO")
+    n = len(program.blocks)
+    invalid(patched(program, at + 1, struct.pack("<I", n)), f"block {n} out of range")
+    # A jump to the end of its block is outside it (the next block starts there).
+    at = code_offset(program, "JUMP_IF_FALSE")
+    block = program.block_at(at)
+    end = program.block_end(block)
+    invalid(patched(program, at + 1, struct.pack("<I", end)),
+            rf"jump to code offset {end}, outside its block \(\d+\.\.{end - 1}\)")
+    at = code_offset(program, "LED")
+    turnas = at + 1 + 3 * 4  # after r, g and b (text constants' indexes)
+    assert program.code[turnas] == 1
+    invalid(patched(program, turnas, b"\x02"), "LED: 2 is not 0 or 1")
+
+
+def test_every_refusal_of_the_code() -> None:
+    cond = BY_NAME["COND"]
+    truncated = Program(name=0, source=None, constants=_CONSTANTS, alfa=(), omega=(),
+                        goals=(GoalRecord(0, 1, Span(0, 0)),),
+                        actions=(ActionRecord(1, Span(0, 0)),),
+                        blocks=(BlockRecord("J", None, 0, Span(0, 0)),),
+                        code=bytes([cond.code, 0]))
+    invalid(truncated, f"COND needs {cond.size} bytes, the block ends after 2")
+
+    def two_conds(asm: Assembler) -> None:
+        fail = JumpTarget()
+        asm.emit("COND", fail, 0)
+        asm.emit("COND", fail, 0)
+        asm.place(fail)
+        asm.emit("NEXT_BLOCK")
+
+    invalid(one_block(two_conds), "COND may only start a jump block")
+    invalid(one_block(lambda asm: (asm.emit("COND", 0, 0), asm.emit("NEXT_BLOCK"))),
+            "COND's handler must come after it")
+
+    def second_next_candidate(asm: Assembler) -> None:
+        fail, bind = JumpTarget(), JumpTarget()
+        asm.emit("COND", fail, 0)
+        asm.emit("FIND", 0, 0, ord("U"), bind)
+        asm.emit("NEXT_CANDIDATE")
+        asm.emit("NEXT_CANDIDATE")
+        asm.place(bind)
+        asm.emit("BIND")
+        asm.place(fail)
+        asm.emit("NEXT_BLOCK")
+
+    invalid(one_block(second_next_candidate),
+            "NEXT_CANDIDATE must follow the FIND of the running search")
+
+    def other_bind(asm: Assembler) -> None:
+        fail, first, second = JumpTarget(), JumpTarget(), JumpTarget()
+        asm.emit("COND", fail, 0)
+        asm.emit("FIND", 0, 0, ord("U"), second)
+        asm.emit("NEXT_CANDIDATE")
+        asm.place(first)
+        asm.emit("BIND")
+        asm.place(second)
+        asm.emit("BIND")
+        asm.place(fail)
+        asm.emit("NEXT_BLOCK")
+
+    invalid(one_block(other_bind), "BIND ends the search of the FIND at 9, which names "
+                                   "another BIND")
+    invalid(one_block(lambda asm: (asm.emit("NEXT_BLOCK"), asm.emit("ISSUE"),
+                                   asm.emit("NEXT_BLOCK")), "I"),
+            "NEXT_BLOCK cannot come before ISSUE in an instruction block")
+
+
+def test_only_verify_makes_a_verified_program(program: Program) -> None:
+    with pytest.raises(TypeError, match=r"comes from bytecode\.verify"):
+        Verified(program, [])
+    assert verify(program).program is program
 
 
 def test_error_messages_say_where() -> None:

@@ -310,8 +310,8 @@ def _code(program: Program, kinds: bytearray) -> tuple[set[int], list[list[Instr
             listing.append(new(Instruction, (offset, op, operands, following)))
             add(offset)
             offset = following
-        if not listing:
-            raise _fault(program, index, "the block has no code", start)
+        # `listing` holds one instruction at least: `_tables` made every block's code
+        # non-empty (each block starts after the one before, and before the code's end).
         if kind == "J":
             _flow(program, index, listing)
         else:
@@ -329,11 +329,8 @@ def _show_byte(value: int) -> str:
 
 
 def _fault(program: Program, index: int, message: str, offset: int) -> InvalidError:
-    try:
-        where = program.block_path(index)
-    except IndexError:
-        where = f"block {index}"
-    return InvalidError(f"{where}: {message}", offset)
+    """A refusal in block `index`, named by its path (the tables agree by now: `_tables`)."""
+    return InvalidError(f"{program.block_path(index)}: {message}", offset)
 
 
 # The straight-line shapes of the other kinds: what comes before the last two instructions
@@ -469,12 +466,10 @@ def _flow(program: Program, index: int, listing: list[Instruction]) -> None:
                 raise _fault(program, index, "NEXT_CANDIDATE must follow the FIND of the "
                                              "running search", offset)
             candidate = True
-        elif op is _BIND:
-            if at[search][2][3] != offset:
-                raise _fault(program, index, f"BIND ends the search of the FIND at {search}, "
-                                             "which names another BIND", offset)
-            search, candidate = -1, False
-        elif search_out == SEARCH_NONE:
+        elif op is _BIND and at[search][2][3] != offset:
+            raise _fault(program, index, f"BIND ends the search of the FIND at {search}, "
+                                         "which names another BIND", offset)
+        if search_out == SEARCH_NONE:  # BIND: the search is over
             search, candidate = -1, False
         state = (stack, search, candidate)
         if op is _COND:
