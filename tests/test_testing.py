@@ -181,10 +181,10 @@ def test_ctrl_c_reports_what_ran_and_exits_130(activity: Path, monkeypatch) -> N
     write(activity, {"a.test.toml": GREETS, "b.test.toml": CLOSES_ALONE})
     real = ops_test.run_one
 
-    def interrupted_second(test, executor="vm"):
+    def interrupted_second(test, executor="vm", **options):
         if test.source.path.startswith("b"):
             raise KeyboardInterrupt
-        return real(test, executor)
+        return real(test, executor, **options)
 
     monkeypatch.setattr(ops_test, "run_one", interrupted_second)
     result = scriptc("test", "-j", "1")

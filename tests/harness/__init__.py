@@ -31,6 +31,9 @@ The aspects (inputs, then what each writes beside them):
 - `test`: `testing/NAME.test.toml`, a test file: `NAME.diagnostics`, what `scriptc test` reports
   in it (its problems, or its failed expectations), and for one that checks `NAME.result.json`,
   the result of its run (harness/testing.py).
+- `coverage`: `coverage/NAME/`, a folder of test files and their scripts: `NAME.coverage`,
+  `NAME.info` and `NAME.coverage.json`, what `scriptc test --coverage`, `--lcov` and
+  `--coverage-data` give over those tests (harness/coverage.py).
 
 `render/*.txt` are snapshots of the text renderer over hand-built diagnostics, written by
 tests/test_render.py through `expect`. A file under tests/cases/ that is neither an input, an
@@ -128,10 +131,10 @@ SUPPORT = ("scriptc.toml", "*.py")
 
 def checks() -> list[Check]:
     """Every check of every case, aspect by aspect."""
-    from harness import aspects, ide, runtime, testing
+    from harness import aspects, coverage, ide, runtime, testing
 
     out: list[Check] = []
-    for make in (*aspects.ASPECTS, ide.checks, runtime.checks, testing.checks):
+    for make in (*aspects.ASPECTS, ide.checks, runtime.checks, testing.checks, coverage.checks):
         out.extend(make())
     return out
 

@@ -1,6 +1,7 @@
 """`scriptc merge OUTPUT INPUT...`: the outputs of a sharded test run's jobs merged into one
 (docs/testing.md, "Merging the shards' outputs"): JUnit reports into one report (OUTPUT
-`*.xml`). What OUTPUT is to be is said by its name, or by the inputs' contents
+`*.xml`), coverage data into one (OUTPUT `*.json`) or into an LCOV tracefile (OUTPUT `*.info`,
+`*.lcov`). What OUTPUT is to be is said by its name, or by the inputs' contents
 (`scriptc.testing.merge.KINDS`); OUTPUT `-` is stdout.
 
 Exit status: 0 merged (notes, such as a test in several inputs, on stderr), 2 an input
@@ -20,7 +21,8 @@ from scriptc.paths import same_file
 @click.argument("output", metavar="OUTPUT")
 @click.argument("inputs", nargs=-1, required=True, metavar="INPUT...")
 def command(output: str, inputs: tuple[str, ...]) -> None:
-    """Merge the shards' outputs INPUT... into OUTPUT: JUnit XML reports (OUTPUT.xml).
+    """Merge the shards' outputs INPUT... into OUTPUT: JUnit XML reports (OUTPUT.xml), or
+    coverage data (scriptc test --coverage-data) into OUTPUT.json or an LCOV OUTPUT.info.
 
     What OUTPUT is to be is said by its name, or by what the inputs hold; `-` writes to
     stdout.

@@ -10,11 +10,14 @@ terminal with many tests a progress bar shows on stderr and the lines come at th
 `--format github` gives the failures as GitHub workflow annotations instead, `--junit FILE`
 writes a JUnit XML report (`scriptc.testing.junit`), `--shard I/N` (or TEST_TOTAL_SHARDS and
 TEST_SHARD_INDEX) runs one part of the tests, balanced by `--durations FILE`
-(`scriptc.testing.shard`).
+(`scriptc.testing.shard`). `--update` writes the snapshots of tests with `snapshot = true`
+(`scriptc.testing.snapshot`); `--coverage`, `--lcov FILE`, `--coverage-data FILE` and
+`--fail-under PERCENT` say what the tests reached of their scripts (`scriptc.ops.coverage`).
 
-Exit status: 0 every test passed, 1 a test failed, 2 a test file or a script could not be
-loaded (or a path does not exist), 130 interrupted (Ctrl-C: the workers stop at once, and what
-ran is reported). The work is `scriptc.ops.test.test_paths`'s; this module prints it.
+Exit status: 0 every test passed, 1 a test failed (or the coverage is under `--fail-under`),
+2 a test file or a script could not be loaded (or a path does not exist), 130 interrupted
+(Ctrl-C: the workers stop at once, and what ran is reported). The work is
+`scriptc.ops.test.test_paths`'s; this module prints it.
 """
 
 from __future__ import annotations
@@ -70,10 +73,26 @@ FORMATS = ("text", "github")
 @click.option("--durations", "durations_file", metavar="FILE",
               help="The seconds each test took: shards are balanced by them; a run that is "
                    "not sharded records its tests' in FILE.")
+@click.option("--update", is_flag=True,
+              help="Write the snapshot (NAME.trace.jsonl) of each test with `snapshot = true` "
+                   "that is missing or differs, instead of failing the test.")
+@click.option("--coverage", "show_coverage", is_flag=True,
+              help="Print what the tests reached of their scripts: blocks issued, jump "
+                   "outcomes taken, goals reached, rules fired, and what was never reached.")
+@click.option("--lcov", "lcov_file", metavar="FILE",
+              help="Write the coverage to FILE as an LCOV tracefile (editors, coverage "
+                   "services).")
+@click.option("--coverage-data", "coverage_file", metavar="FILE",
+              help="Write the coverage to FILE as data (JSON) that `scriptc merge` merges.")
+@click.option("--fail-under", "fail_under", type=click.FloatRange(0, 100), metavar="PERCENT",
+              help="Fail (exit 1) when the blocks issued or the jump outcomes taken are under "
+                   "PERCENT of all.")
 @click.pass_context
 def command(ctx: click.Context, paths: tuple[str, ...], keyword: str | None, jobs: int | None,
             executor: str, quiet: bool, format_: str, junit_file: str | None,
-            shard_text: str | None, durations_file: str | None) -> None:
+            shard_text: str | None, durations_file: str | None, update: bool,
+            show_coverage: bool, lcov_file: str | None, coverage_file: str | None,
+            fail_under: float | None) -> None:
     """Run the tests (*.test.toml) under PATH... (default: the working folder).
 
     A test runs scripts in simulated time, in a world, and checks what the run did: events
@@ -88,7 +107,8 @@ def command(ctx: click.Context, paths: tuple[str, ...], keyword: str | None, job
     from scriptc.testing.shard import ShardError, read_durations
 
     shard = _shard(shard_text)
-    for output in (junit_file, durations_file if shard is None else None):
+    for output in (junit_file, durations_file if shard is None else None, lcov_file,
+                   coverage_file):
         if output is not None:
             check_output(output)
     try:
@@ -110,7 +130,8 @@ def command(ctx: click.Context, paths: tuple[str, ...], keyword: str | None, job
             write(test_line(result, color=color))
 
     options = TestOptions(jobs=jobs, keyword=keyword, executor=executor, progress=progress,
-                          on_result=on_result, shard=shard, durations=durations)
+                          on_result=on_result, shard=shard, durations=durations,
+                          update=update)
     try:
         run = test_paths(paths or (".",), options)
     finally:
@@ -141,10 +162,14 @@ def command(ctx: click.Context, paths: tuple[str, ...], keyword: str | None, job
     if run.interrupted:
         write(f"error: interrupted (Ctrl-C): {len(run.results)} of {len(run.tests)} tests "
               "ran\n", err=True)
+    for result in run.results:
+        for written in result.written:
+            write(f"wrote the snapshot {written}\n")
     if run.results:
         write(summary_line(run.results, run.wall_s, color=color))
     _write_outputs(run, junit_file, shard, durations_file, durations, executor, keyword, started)
-    ctx.exit(run.exit_code)
+    under = _coverage(run, show_coverage, lcov_file, coverage_file, fail_under)
+    ctx.exit(1 if under and run.exit_code == 0 else run.exit_code)
 
 
 def _shard(text: str | None) -> Shard | None:
@@ -193,3 +218,29 @@ def _write_outputs(run: TestRun, junit_file: str | None, shard: Shard | None,
             hostname=socket.gethostname()))
     if durations_file is not None and shard is None and run.results:
         write_output(durations_file, durations_text(recorded(durations, run.results)))
+
+
+def _coverage(run: TestRun, show: bool, lcov_file: str | None, coverage_file: str | None,
+              fail_under: float | None) -> bool:
+    """What the tests reached of their scripts (`scriptc.ops.coverage`), when an option asks:
+    the summary printed, the LCOV and data files written; True when it is under
+    `fail_under` (said on stderr). Nothing is measured for a run that did not finish."""
+    if not (show or lcov_file or coverage_file or fail_under is not None) \
+            or run.interrupted or not run.results:
+        return False
+    from scriptc.ops.coverage import measure
+    from scriptc.testing.coverage import below, lcov, summary
+
+    coverage = measure(run.tests, run.results)
+    if show:
+        write("\n" + summary(coverage))
+    if lcov_file is not None:
+        write_output(lcov_file, lcov(coverage))
+    if coverage_file is not None:
+        write_output(coverage_file, coverage.text())
+    if fail_under is None:
+        return False
+    short = below(coverage, fail_under)
+    if short:
+        write(f"error: coverage under {fail_under:g}%: {'; '.join(short)}\n", err=True)
+    return bool(short)

@@ -142,6 +142,8 @@ _CODES = (
     Code("T005", "invalid-test-world", E,
          "the world of a test (its scenario file or `[world]` table) has a problem"),
     Code("T006", "expectation-failed", E, "the run of a test did not do what an `[[expect]]` says"),
+    Code("T007", "snapshot-differs", E,
+         "the trace of a test with `snapshot = true` is not its snapshot file, or there is none"),
     # X: run time (the trace's `error` events carry the name; runtime/status.py)
     Code("X001", "mutex-misuse", W,
          "rule messages misuse the map's mutex at run time (a script that was not checked)",

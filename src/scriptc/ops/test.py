@@ -15,7 +15,8 @@ processes and returns a `TestRun`; it prints nothing (the CLI renders the run wi
   (`scriptc.ops.programs`: checked, compiled to bytecode, run by the VM, under their
   repository's configuration, functions, rules and robot profile), and its session run
   (`scriptc.testing.run`). A test whose scripts cannot be loaded is an `error`, with the
-  diagnostics that say why.
+  diagnostics that say why. A test with `snapshot = true` has its trace compared with its
+  snapshot file, or the file written with `update` (`scriptc.testing.snapshot`).
 - Workers: one per core (`jobs`), each test a task of its own (`scriptc.ops.workers`); results
   are handed to `on_result` in the order of the tests, as they come. Ctrl-C stops the workers
   at once; the run comes back `interrupted` with the results it had.
@@ -41,6 +42,7 @@ from scriptc.ops.programs import (
 from scriptc.ops.workers import PoolFailed, available_cores, map_chunks
 from scriptc.paths import shown_path
 from scriptc.project.files import discover
+from scriptc.testing import snapshot
 from scriptc.testing.model import TestFile
 from scriptc.testing.read import SUFFIX, ReadTest, read_test
 from scriptc.testing.run import ERROR, FAILED, TestResult, replay_command, run_test
@@ -63,6 +65,9 @@ class TestOptions:
     executor: str = "vm"
     progress: Callable[[int, int], None] | None = None
     on_result: Callable[[int, TestResult], None] | None = None
+    # `--update`: write the snapshot of each test with `snapshot = true` that is missing or
+    # differs (`scriptc.testing.snapshot`), instead of failing it.
+    update: bool = False
     # `--shard I/N`: run only this part of the tests selected, split by `durations` (the
     # seconds each test took, by `scriptc.testing.shard.test_key`) when they are known.
     shard: Shard | None = None
@@ -176,7 +181,8 @@ def _run_all(run: TestRun, options: TestOptions) -> None:
         size = max(1, min(8, total // (8 * jobs)))
         chunks = [list(range(i, min(i + size, total))) for i in range(0, total, size)]
         try:
-            map_chunks(_run_chunk, [[(tests[i], options.executor) for i in chunk]
+            map_chunks(_run_chunk, [[(tests[i], options.executor, options.update)
+                                     for i in chunk]
                                     for chunk in chunks], jobs,
                        lambda c, k, result: done(chunks[c][k], result))
             return
@@ -186,7 +192,7 @@ def _run_all(run: TestRun, options: TestOptions) -> None:
             pass  # a worker died (killed, out of memory): the rest run here
     for i, test in enumerate(tests):
         if i not in finished:
-            done(i, run_one(test, options.executor))
+            done(i, run_one(test, options.executor, update=options.update))
 
 
 def _prepare(test: TestFile, executor: str) -> None:
@@ -204,13 +210,14 @@ def _prepare(test: TestFile, executor: str) -> None:
         robots.make_robot(test.robot)
 
 
-def _run_chunk(items: list[tuple[TestFile, str]]) -> list[TestResult]:
-    return [run_one(test, executor) for test, executor in items]
+def _run_chunk(items: list[tuple[TestFile, str, bool]]) -> list[TestResult]:
+    return [run_one(test, executor, update=update) for test, executor, update in items]
 
 
-def run_one(test: TestFile, executor: str = "vm") -> TestResult:
-    """Load the scripts of `test` as `scriptc run` does and run it (`scriptc.testing.run`);
-    a test that cannot start is a result with the status `error` saying why."""
+def run_one(test: TestFile, executor: str = "vm", *, update: bool = False) -> TestResult:
+    """Load the scripts of `test` as `scriptc run` does and run it (`scriptc.testing.run`),
+    its snapshot judged, or written with `update`; a test that cannot start is a result with
+    the status `error` saying why."""
     started = time.perf_counter()
     governor = test.governor if test.governor is not None else governed_by_default(test.robot)
     replay = replay_command(test, governor)
@@ -246,4 +253,6 @@ def run_one(test: TestFile, executor: str = "vm") -> TestResult:
     result = run_test(test, programs, robot,
                       profile=loaded.setup.profile if governor else None,
                       loader=ProgramLoader(executor), functions=functions, rules=rules)
+    # The snapshot is judged (and with `update` written) where the trace is: in the worker.
+    result = snapshot.judge(test, result, update=update)
     return replace(result, wall_s=time.perf_counter() - started)

@@ -57,7 +57,9 @@ class Verdict:
     """One expectation judged: `passed`, and for people what was `expected`, what was
     `found` instead and `notes` (the nearest events, the state at the instant). `index` is
     the expectation's (None for the implicit one: a run must not stop on a run-time error
-    unless the test expects an outcome)."""
+    unless the test expects an outcome; and for the snapshot). `code` is the diagnostic's
+    when it fails: T006 for an expectation, T007 for the snapshot
+    (`scriptc.testing.snapshot`)."""
 
     index: int | None
     name: str
@@ -65,10 +67,12 @@ class Verdict:
     expected: str
     found: str
     notes: tuple[str, ...] = ()
+    code: str = "T006"
 
     def as_dict(self) -> dict[str, Any]:
-        return {"index": self.index, "name": self.name, "passed": self.passed,
-                "expected": self.expected, "found": self.found, "notes": list(self.notes)}
+        return {"index": self.index, "name": self.name, "code": self.code,
+                "passed": self.passed, "expected": self.expected, "found": self.found,
+                "notes": list(self.notes)}
 
 
 def judge(expectations: Iterable[Expectation], run: Run) -> list[Verdict]:

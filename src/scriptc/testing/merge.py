@@ -14,7 +14,7 @@ import os
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
-from scriptc.testing import junit
+from scriptc.testing import coverage, junit
 
 __all__ = ["KINDS", "Input", "Kind", "MergeError", "kind_for", "merge_files", "read_inputs"]
 
@@ -42,6 +42,9 @@ class Kind:
 
 KINDS: tuple[Kind, ...] = (
     Kind("JUnit XML", (".xml",), junit.is_junit, junit.merge),
+    Kind("scriptc coverage data", (".json",), coverage.is_data, coverage.merge_data),
+    Kind("LCOV tracefile (from scriptc coverage data)", (".info", ".lcov"), coverage.is_data,
+         coverage.merge_lcov),
 )
 
 

@@ -181,6 +181,9 @@ class TestFile:
     expectations: tuple[Expectation, ...] = field(default=())
     # The span to point at for what concerns the test as a whole (its `scripts` key).
     head: Span = _START
+    # `snapshot = true`: the span of its key (the trace must equal the snapshot file beside
+    # the test: `scriptc.testing.snapshot`); None without it.
+    snapshot: Span | None = None
 
     @property
     def instants(self) -> list[int]:

@@ -451,7 +451,9 @@ def _check(table: TOMLTable, source: SourceFile, path: str) -> ReadTest:
         else "", scripts=scripts, world=world, world_arg=world_arg,
         robot=table.get("robot", DEFAULT_ROBOT), governor=governor if isinstance(governor, bool)
         else None, until=checker.until, expectations=tuple(expectations),
-        head=checker.span(("scripts",), "key")), [])
+        head=checker.span(("scripts",), "key"),
+        snapshot=checker.span(("snapshot",), "key") if table.get("snapshot") is True
+        else None), [])
 
 
 # -- a TOML table as located JSON nodes (the `[world]` table, read as a scenario) ---------------

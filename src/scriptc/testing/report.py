@@ -26,13 +26,16 @@ _WORD = {PASSED: ("PASS ", "bold green"), FAILED: ("FAIL ", "bold red"),
 
 def failure(test: TestFile, result: TestResult, verdict: Verdict) -> Diagnostic:
     """The diagnostic of one failed expectation, at its `[[expect]]` (the implicit one, a run
-    stopped by a run-time error, at the test's `scripts`)."""
+    stopped by a run-time error, at the test's `scripts`; the snapshot, at `snapshot`)."""
     span = test.head
     for expectation in test.expectations:
         if expectation.index == verdict.index:
             span = expectation.span
+    if verdict.code == "T007" and test.snapshot is not None:
+        span = test.snapshot
     return diagnostic(
-        "T006", f"`{verdict.name}`: expected {verdict.expected}, found {verdict.found}", span,
+        verdict.code, f"`{verdict.name}`: expected {verdict.expected}, found {verdict.found}",
+        span,
         notes=("\n".join(verdict.notes),) if verdict.notes else (),
         help=f"replay the run: {result.replay}")
 

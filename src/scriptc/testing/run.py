@@ -55,6 +55,7 @@ class TestResult:
     reason: str = ""
     problems: tuple[tuple[SourceFile, tuple[Diagnostic, ...]], ...] = ()
     wall_s: float = field(default=0.0, compare=False)
+    written: tuple[str, ...] = ()  # the files the test wrote (`--update`: its snapshot)
 
     @property
     def failures(self) -> list[Verdict]:
