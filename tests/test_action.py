@@ -94,9 +94,9 @@ def test_the_documented_workflows_use_the_action_with_its_inputs() -> None:
     ("scriptc lint", {}, "lint", {"paths": (".",), "format_": "github"}),
     ("scriptc lint", {"paths": "activities more", "lint-args": "--ignore F001"}, "lint",
      {"paths": ("activities", "more"), "format_": "github", "ignore": ("F001",)}),
-    ("scriptc test", {}, "test", {"paths": (".",)}),
+    ("scriptc test", {}, "test", {"paths": (".",), "format_": "github"}),
     ("scriptc test", {"test-args": "-k greeting -j 2"}, "test",
-     {"paths": (".",), "keyword": "greeting", "jobs": 2}),
+     {"paths": (".",), "format_": "github", "keyword": "greeting", "jobs": 2}),
 ])
 def test_the_steps_run_the_real_cli(step: str, inputs: dict[str, str], verb: str,
                                     options: dict) -> None:
@@ -161,6 +161,7 @@ def test_the_lint_and_test_steps_pass_then_fail_with_annotations(repository: Pat
                        encoding="utf-8")
     test = step("scriptc test")
     assert test.returncode == 1 and "FAIL  activities/hello.test.toml" in test.stdout
+    assert "\n::error file=activities/hello.test.toml,line=9,col=1," in test.stdout
     # The inputs reach the commands: a selection that leaves the failing test out passes.
     assert step("scriptc test", **{"test-args": "-k nothing-matches"}).returncode == 0
     assert step("scriptc lint", paths="scenarios").returncode == 0

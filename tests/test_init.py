@@ -96,7 +96,7 @@ def test_the_workflow_lints_then_tests_with_the_real_cli(scaffold: Path) -> None
         parse(words)
     (test_step,) = [step for step in job["steps"] if step.get("name") == "Test"]
     assert test_step["if"] == "always() && steps.install.outcome == 'success'"
-    assert test_step["run"] == "scriptc test ."
+    assert test_step["run"] == "scriptc test . --format github"
 
 
 def test_the_scaffolds_test_passes_and_pins_the_example(scaffold: Path, monkeypatch) -> None:

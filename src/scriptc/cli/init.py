@@ -132,8 +132,8 @@ WORKFLOW = """\
 # Lint and test the activities on every push and pull request. Lint errors fail the job; every
 # diagnostic shows as an annotation on the changed lines (--format github) and as a
 # code-scanning alert (--format sarif, uploaded below); the second lint reads the first one's
-# cache, so it costs almost nothing. Then the tests (*.test.toml) run in simulated time; a
-# failing test fails the job.
+# cache, so it costs almost nothing. Then the tests (*.test.toml) run in simulated time: a
+# failing test fails the job, each failed expectation an annotation on its test file.
 name: scriptc
 
 on:
@@ -170,7 +170,7 @@ jobs:
           category: scriptc
       - name: Test
         if: always() && steps.install.outcome == 'success'
-        run: scriptc test .
+        run: scriptc test . --format github
 """
 
 PRE_COMMIT = """\
