@@ -12,6 +12,7 @@ import io
 import json
 import shutil
 from pathlib import Path
+from xml.etree import ElementTree
 
 import junitparser
 import pytest
@@ -273,16 +274,21 @@ def test_a_shard_split_of_4_runs_each_test_exactly_once(repo: Path) -> None:
     report = read_junit(repo / "all.xml")
     assert list(cases(report)) == NAMES  # every test once, in the order of one run
     (suite,) = list(report)
+    assert report.name == suite.name == "scriptc test"
     assert (suite.tests, suite.failures, suite.errors) == (11, 4, 0)
-    assert [p.value for p in suite.properties() if p.name == "shard"] == \
-        ["1/4", "2/4", "3/4", "4/4"]
+    assert [(p.name, p.value) for p in suite.properties()] == [
+        ("scriptc", __version__), ("executor", "vm"), ("shard", "1/4"), ("shard", "2/4"),
+        ("shard", "3/4"), ("shard", "4/4")]
 
 
 def test_durations_recorded_by_a_run_balance_the_shards(repo: Path) -> None:
     sharded_repo(repo)
-    assert scriptc("test", "-j", "1", "--durations", "d.json").exit_code == 1
+    write(repo, {"tests/errs.test.toml": ERRS, "broken.script": BROKEN_SCRIPT})
+    assert scriptc("test", "-j", "1", "--durations", "d.json").exit_code == 2
     recorded = json.loads((repo / "d.json").read_text(encoding="utf-8"))["durations"]
+    # Every test that ran; not the one that could not (loading alone is no measure of it).
     assert sorted(recorded) == NAMES and all(s >= 0 for s in recorded.values())
+    (repo / "tests" / "errs.test.toml").unlink()
     # One test weighs as much as all the others: it has a shard of its own.
     heavy = dict.fromkeys(NAMES, 0.001) | {NAMES[5]: 1.0}
     (repo / "d.json").write_text(json.dumps({"durations": heavy}), encoding="utf-8")
@@ -360,6 +366,9 @@ def test_the_option_wins_over_the_variables_and_bazel_is_told(repo: Path) -> Non
     result = scriptc("test", env=env)
     assert "shard 2/2: 5 of the 11 tests" in result.stderr
     assert status.exists()
+    # The variables are not even read then: half of them set is no error with the option.
+    result = scriptc("test", "--shard", "3/3", env={"TEST_TOTAL_SHARDS": "2"})
+    assert "shard 3/3: 3 of the 11 tests" in result.stderr
 
 
 def test_more_shards_than_tests_leaves_some_empty(repo: Path) -> None:
@@ -368,6 +377,36 @@ def test_more_shards_than_tests_leaves_some_empty(repo: Path) -> None:
     assert result.exit_code == 0
     assert "shard 2/2: 0 of the 1 tests\n" in result.stderr
     assert cases(read_junit(repo / "r.xml")) == {}
+    # `-k` found its test: the shard is empty, not the selection.
+    result = scriptc("test", "-k", "a.test", "--shard", "2/2")
+    assert result.exit_code == 0
+    assert result.stderr == "shard 2/2: 0 of the 1 tests\n"
+
+
+def test_the_first_tests_scripts_are_loaded_before_any_test_is_timed(repo: Path,
+                                                                     monkeypatch) -> None:
+    """A test's seconds (what `--durations` records and shards are balanced by) leave out
+    the imports and the grammar, which the first test to run would pay for: they are loaded
+    before it, in one process as before the workers."""
+    from scriptc.ops import test as ops_test
+
+    write(repo, {"tests/a.test.toml": GREETS, "tests/b.test.toml": GREETS})
+    calls: list[str] = []
+    prepare, run_one = ops_test._prepare, ops_test.run_one
+
+    def spy_prepare(test, *args, **kwargs):
+        calls.append(f"prepare {test.source.path}")
+        return prepare(test, *args, **kwargs)
+
+    def spy_run_one(test, *args, **kwargs):
+        calls.append(f"run {test.source.path}")
+        return run_one(test, *args, **kwargs)
+
+    monkeypatch.setattr(ops_test, "_prepare", spy_prepare)
+    monkeypatch.setattr(ops_test, "run_one", spy_run_one)
+    assert scriptc("test", "-j", "1").exit_code == 0
+    assert calls == ["prepare tests/a.test.toml", "run tests/a.test.toml",
+                     "run tests/b.test.toml"]
 
 
 def test_shard_parsing() -> None:
@@ -381,9 +420,11 @@ def test_shard_parsing() -> None:
         shard_from_environment({"TEST_TOTAL_SHARDS": "3", "TEST_SHARD_INDEX": "-1"})
 
 
-# Tests (distinct names) with durations, some not recorded (None), split into N shards.
-TESTS = st.dictionaries(st.text("abcdef/.", min_size=1, max_size=8),
-                        st.none() | st.floats(0, 100, allow_nan=False), max_size=40)
+# Tests (distinct names) with durations, some not recorded (None), split into N shards; or all
+# of one duration (0.0: tests faster than the millisecond a durations file records).
+NAMES_ = st.text("abcdef/.", min_size=1, max_size=8)
+TESTS = st.dictionaries(NAMES_, st.none() | st.floats(0, 100, allow_nan=False), max_size=40) \
+    | st.builds(dict.fromkeys, st.lists(NAMES_, max_size=40), st.sampled_from([0.0, 2.5]))
 
 
 @settings(max_examples=300, deadline=None)
@@ -403,7 +444,7 @@ def test_shards_partition_the_tests_and_the_heaviest_is_within_the_longest_of_ev
     loads = [sum(weights[i] for i in part) for part in parts]
     if keys:
         assert max(loads) <= sum(weights) / total + max(weights) + 1e-9
-    if not durations:
+    if len(set(weights)) <= 1:  # by count, or all alike: even to one test
         sizes = [len(part) for part in parts]
         assert max(sizes) - min(sizes) <= 1
     # The split depends on the tests, not on the order they were found in.
@@ -417,7 +458,8 @@ def test_shards_partition_the_tests_and_the_heaviest_is_within_the_longest_of_ev
 # -- scriptc merge ----------------------------------------------------------------------------
 
 SUITE = """<?xml version="1.0"?>
-<testsuite name="{name}" tests="{n}" failures="0" errors="0" time="{time}" hostname="{host}">
+<testsuite name="{name}" tests="{n}" failures="0" errors="0" time="{time}" hostname="{host}"
+           timestamp="{stamp}">
   <properties><property name="p" value="{value}"/></properties>
   {cases}
   <system-out>{out}</system-out>
@@ -426,10 +468,11 @@ SUITE = """<?xml version="1.0"?>
 
 
 def junit_file(path: Path, *, name: str = "pytest", cases: str = "", time: str = "1.5",
-               host: str = "a", value: str = "1", out: str = "") -> str:
+               host: str = "a", value: str = "1", out: str = "",
+               stamp: str = "2026-05-02T10:00:00") -> str:
     n = cases.count("<testcase")
     path.write_text(SUITE.format(name=name, n=n, time=time, host=host, value=value,
-                                 cases=cases, out=out), encoding="utf-8")
+                                 cases=cases, out=out, stamp=stamp), encoding="utf-8")
     return str(path)
 
 
@@ -437,29 +480,56 @@ def test_merge_joins_suites_of_one_name_and_keeps_the_others(repo: Path) -> None
     a = junit_file(repo / "a.xml", cases='<testcase classname="m" name="z" time="1"/>'
                    '<testcase classname="m" name="x" time="2"><failure message="f"/></testcase>',
                    time="1,001.5", out="first")
-    b = junit_file(repo / "b.xml", cases='<testcase classname="m" name="y"><error/></testcase>',
-                   host="b", value="2", out="second")
+    b = junit_file(repo / "b.xml", cases='<testcase classname="m" name="y"><error/></testcase>'
+                   '<testsuite name="inner" tests="1" failures="0" errors="0">'
+                   '<testcase name="n"/></testsuite>',
+                   host="b", value="2", out="second", stamp="2026-05-01T09:00:00")
     c = junit_file(repo / "c.xml", name="other", cases='<testcase name="q"><skipped/></testcase>')
-    result = scriptc("merge", "out.xml", a, b, c)
+    d = junit_file(repo / "d.xml", out="\n  ", stamp="2026-05-03T08:00:00")
+    result = scriptc("merge", "out.xml", a, b, c, d)
     assert result.exit_code == 0, result.output
     report = read_junit(repo / "out.xml")
+    assert report.name is None  # two suites of two names: neither names the whole
     first, other = list(report)
     assert first.name == "pytest" and other.name == "other"
-    assert [case.name for case in first] == ["x", "y", "z"]
-    assert (first.tests, first.failures, first.errors, first.skipped) == (3, 1, 1, 0)
-    assert first.time == pytest.approx(1003.0)
+    assert [case.name for case in first] == ["x", "y", "z", "n"]  # junitparser reads deep
+    # The suite nested in b's is kept after the cases, and its case counted.
+    root = ElementTree.parse(repo / "out.xml").getroot()
+    assert [case.get("name") for case in root.iterfind("testsuite/testsuite/testcase")] == ["n"]
+    assert (first.tests, first.failures, first.errors, first.skipped) == (4, 1, 1, 0)
+    assert first.time == pytest.approx(1004.5)
     assert first.hostname is None  # the machines differ: neither is kept
+    assert first.timestamp == "2026-05-01T09:00:00"  # the earliest
     assert [(p.name, p.value) for p in first.properties()] == [("p", "1"), ("p", "2")]
-    assert system_out(repo / "out.xml") == ["first\nsecond\n", None]
+    assert [suite.findtext("system-out") for suite in root] == ["first\nsecond\n", None]
     assert (other.tests, other.skipped, other.hostname) == (1, 1, "a")
-    assert (report.tests, report.failures, report.errors) == (4, 1, 1)
+    assert (report.tests, report.failures, report.errors) == (5, 1, 1)
 
 
-def system_out(path: Path) -> list[str | None]:
-    """The `system-out` of each suite of a report (junitparser reads a case's only)."""
-    from xml.etree import ElementTree
+def test_merge_chooses_the_kind_from_a_table(monkeypatch) -> None:
+    """A kind is a row of `KINDS`: by the output's suffix, then by what the inputs hold; the
+    error names the input that is not of the kind most inputs are."""
+    from scriptc.testing import merge
 
-    return [suite.findtext("system-out") for suite in ElementTree.parse(path).getroot()]
+    def lines(inputs):
+        return "".join(data.decode() for _name, data in inputs), []
+
+    plain = merge.Kind("plain text", (".txt", ".xml"), lambda data: data.startswith(b"line"),
+                       lines)
+    (junit_kind,) = [kind for kind in merge.KINDS if kind.name == "JUnit XML"]
+    monkeypatch.setattr(merge, "KINDS", (junit_kind, plain))
+    junit, text = ("a.xml", b"<testsuite name='s'/>"), ("a.txt", b"line 1\n")
+    assert merge.kind_for("out.xml", [junit]).name == "JUnit XML"
+    assert merge.kind_for("out.xml", [text, text]) is plain  # .xml fits both: the inputs say
+    assert merge.kind_for("-", [text]) is plain
+    assert merge.kind_for("OUT.TXT", [text]) is plain
+    with pytest.raises(merge.MergeError, match=r"^`a.xml` is not a plain text file: merge"):
+        merge.kind_for("-", [text, text, junit])
+    with pytest.raises(merge.MergeError, match=r"^`a.txt` is not a JUnit XML file: merge"):
+        merge.kind_for("-", [junit, text, junit])
+    with pytest.raises(merge.MergeError, match=r"end it with .xml \(JUnit XML\), .txt or .xml "
+                                               r"\(plain text\)$"):
+        merge.kind_for("out.csv", [text])
 
 
 def test_merge_says_when_a_test_is_in_several_inputs(repo: Path) -> None:
