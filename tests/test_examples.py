@@ -397,6 +397,34 @@ def test_every_example_has_tests_and_they_pass(executor: str) -> None:
         assert f"tests/{Path(test.path).name}" in readme, test.path
 
 
+def test_the_examples_tests_reach_everything_that_can_be_reached() -> None:
+    """Over all the examples' tests, every block, goal and rule of each activity runs, and
+    every jump goes both ways, but for the jumps that only note the time in a variable
+    (`{VAR @shown U F: now()} ! {TRUE}`): those are never false."""
+    from scriptc.ops.coverage import measure
+
+    run = _run_example_tests(EXAMPLES)
+    coverage = measure(run.tests, run.results)
+    assert sorted(Path(key).stem for key in coverage.scripts) == sorted(ACTIVITIES)
+    for key, script in coverage.scripts.items():
+        totals = script.totals()
+        for kind in ("blocks", "goals", "rules"):
+            reached, total = totals[kind]
+            assert reached == total > 0, (key, kind)
+    never = [(Path(key).stem, jump.path, outcome) for key, script in coverage.scripts.items()
+             for jump in script.jumps
+             for outcome, hits in (("true", jump.true), ("false", jump.false)) if hits == 0]
+    assert sorted(never) == [("imitation", "goal0/act0/blk1", "false"),
+                             ("imitation", "goal0/act0/blk5", "false"),
+                             ("turn_taking", "goal1/act0/blk1", "false")]
+    for key, script in coverage.scripts.items():
+        lines = Path(script.path).read_text(encoding="utf-8").splitlines()
+        for jump in script.jumps:
+            if jump.false == 0:
+                assert re.search(r"CND\(\{VAR @\w+ U F: now\(\)\} ! \{TRUE\}\)",
+                                 lines[jump.line - 1]), (key, jump.path)
+
+
 def test_scriptc_test_examples_passes_through_the_cli(monkeypatch) -> None:
     monkeypatch.chdir(ROOT)
     result = run("test", "examples", "-j", "1")
@@ -416,20 +444,26 @@ BREAKS = [
     ("greeting", '"0, 0, -0.5, 0, 850"', '"0, 0, -0.5, 0, 700"',  # the wiggle does not come back
      {"greeting"}),
     ("approach", "near(3.0)", "near(2.0)",  # does not react to the child 2.475 m away at 0 ms
-     {"approach", "approach_child_stays"}),
+     {"approach", "approach_child_stays", "approach_child_retreats"}),
     ("approach", "OP< 1.0)", "OP< 0.5)",  # drives into the child's last metre
      {"approach", "approach_child_stays"}),
     ("approach", 'MV("0.2, 0, 0, 100, 500")', 'MV("0.2, 0, 0, 100, 600")',  # 12 cm steps
-     {"approach", "approach_child_stays"}),
+     {"approach", "approach_child_stays", "approach_child_retreats"}),
     ("approach", "TRJMP() FLSJMP(pause)", "TRJMP() FLSJMP()",  # steps towards nobody
      {"approach_nobody"}),
+    ("approach", "OP> 20000", "OP> 40000",  # follows a retreating child for 40 s
+     {"approach_child_retreats", "approach_nobody"}),
     ("imitation", '[b#demo2#blk_inst: MV("0, 0, 0.8, 150, 850", "0, 0, -0.8, 0, 850")',
      '[b#demo2#blk_inst: MV("0, 0, 0.8, 150, 850", "0, 0, -0.8, 0, 700")',  # ends turned away
      {"imitation", "imitation_early_move"}),
     ("imitation", "! {E: gt(?kid>&positionchangetime, @shown)}", "! {TRUE}",  # any child copies
      {"imitation", "imitation_early_move"}),
+    ("imitation", "TRJMP(copied) FLSJMP()", "TRJMP(demo2) FLSJMP()",  # a first copy not seen
+     {"imitation_first_copy"}),
     ("joint_attention", "TRJMP(shared) FLSJMP()", "TRJMP(shared) FLSJMP(bye)",  # prompts once
      {"joint_attention", "joint_attention_child_stays"}),
+    ("joint_attention", "TRJMP(shared) FLSJMP()", "TRJMP(again) FLSJMP()",  # always twice
+     {"joint_attention_first_prompt"}),
     ("joint_attention", 'MV("0, 0, -0.6, 100, 1000")', "MV()",  # does not turn back
      {"joint_attention_child_stays"}),
     ("turn_taking", "! {E: gt(?ball>&positionchangetime, @pushed)}", "! {TRUE}",  # any return wins
