@@ -18,17 +18,28 @@ from pathlib import Path
 import pytest
 
 from scriptc.project.files import SCRIPT_SUFFIX
+from scriptc.testing import SUFFIX as TEST_SUFFIX
 
 VSCODE = Path(__file__).parent.parent / "lsp" / "vscode"
 
 
 def test_manifest_declares_the_language_the_grammar_and_the_server_setting() -> None:
     manifest = json.loads((VSCODE / "package.json").read_text(encoding="utf-8"))
-    (language,) = manifest["contributes"]["languages"]
-    assert language["id"] == "scriptc" and SCRIPT_SUFFIX in language["extensions"]
-    (grammar,) = manifest["contributes"]["grammars"]
+    languages = {language["id"]: language for language in manifest["contributes"]["languages"]}
+    grammars = {grammar["language"]: grammar for grammar in manifest["contributes"]["grammars"]}
+    assert set(languages) == set(grammars) == {"scriptc", "scriptc-test"}
+    language, grammar = languages["scriptc"], grammars["scriptc"]
+    assert SCRIPT_SUFFIX in language["extensions"]
     assert grammar["scopeName"] == "source.scriptc" and (VSCODE / grammar["path"]).is_file()
     assert (VSCODE / language["configuration"]).is_file()
+    # Test files are a language of their own, so that the client sends them to the server
+    # (docs/editors.md): TOML, highlighted by the editor's TOML grammar when there is one.
+    tests, test_grammar = languages["scriptc-test"], grammars["scriptc-test"]
+    assert tests["filenamePatterns"] == [f"*{TEST_SUFFIX}"]
+    assert (VSCODE / tests["configuration"]).is_file()
+    assert json.loads((VSCODE / test_grammar["path"]).read_text(encoding="utf-8"))[
+        "patterns"] == [{"include": "source.toml"}]
+    assert set(manifest["activationEvents"]) == {"onLanguage:scriptc", "onLanguage:scriptc-test"}
     settings = manifest["contributes"]["configuration"]["properties"]
     assert settings["scriptc.path"]["default"] == "scriptc"
     assert settings["scriptc.args"]["default"] == ["lsp"]

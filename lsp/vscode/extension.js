@@ -1,6 +1,8 @@
 // The VS Code side of scriptc: starts `scriptc lsp` (the language server, over stdio) for
-// robot activity scripts. Highlighting is the TextMate grammar in syntaxes/; everything else
-// (diagnostics, formatting, hovers, navigation) comes from the server.
+// robot activity scripts, and for their test files (`*.test.toml`, the language
+// `scriptc-test`: the server reports their problems). Highlighting is the TextMate grammar in
+// syntaxes/; everything else (diagnostics, formatting, hovers, navigation) comes from the
+// server.
 "use strict";
 
 const path = require("path");
@@ -31,6 +33,8 @@ function createClient() {
     documentSelector: [
       { scheme: "file", language: "scriptc" },
       { scheme: "untitled", language: "scriptc" },
+      // A test file's paths are relative to it: only a file on disk can be checked.
+      { scheme: "file", language: "scriptc-test" },
     ],
     synchronize: {
       fileEvents: vscode.workspace.createFileSystemWatcher("**/{*.script,scriptc.toml,pyproject.toml}"),

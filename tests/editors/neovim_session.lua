@@ -1,10 +1,12 @@
 -- Neovim's side of tests/editors/test_neovim.py, run headless (`nvim --headless --clean`).
--- Reads its orders from the JSON file named by $SCRIPTC_EDITOR_TEST: opens the script,
--- starts `scriptc lsp` on it offering every position encoding, makes each edit through
--- Neovim's own buffer API (so Neovim computes the protocol's ranges), then rewrites the
--- configuration; after the opening and after each step it waits until the diagnostics
--- change and records the buffer's lines and its diagnostics (columns in bytes, as Neovim
--- keeps them). Writes the record to the result file and quits (status 1 on a Lua error).
+-- Reads its orders from the JSON file named by $SCRIPTC_EDITOR_TEST: opens the file,
+-- starts `scriptc lsp` on it offering every position encoding (or, with `documented`, sets
+-- Neovim 0.11 up as docs/editors.md says and lets it start the server), makes each edit
+-- through Neovim's own buffer API (so Neovim computes the protocol's ranges), then rewrites
+-- the configuration (unless `config_later` is empty); after the opening and after each step it waits
+-- until the diagnostics change and records the buffer's lines and its diagnostics (columns in
+-- bytes, as Neovim keeps them), and the buffer's filetype and comment string. Writes the
+-- record to the result file and quits (status 1 on a Lua error).
 local setup = vim.fn.json_decode(table.concat(vim.fn.readfile(os.getenv("SCRIPTC_EDITOR_TEST")), "\n"))
 local record = { steps = {} }
 
@@ -22,9 +24,21 @@ local function diagnostics(bufnr)
   return out
 end
 
-local function run()
-  vim.cmd("edit " .. vim.fn.fnameescape(setup.file))
-  local bufnr = vim.api.nvim_get_current_buf()
+-- docs/editors.md, "Neovim" (0.11 and newer), with the test's command.
+local function documented()
+  vim.filetype.add({
+    extension = { script = "scriptc" },
+    pattern = { [".*%.test%.toml"] = "toml.scriptc-test" },
+  })
+  vim.lsp.config("scriptc", {
+    cmd = setup.cmd,
+    filetypes = { "scriptc", "toml.scriptc-test" },
+    root_markers = { "scriptc.toml", "pyproject.toml", ".git" },
+  })
+  vim.lsp.enable("scriptc")
+end
+
+local function start(bufnr)
   local capabilities = vim.lsp.protocol.make_client_capabilities()
   capabilities.general = capabilities.general or {}
   capabilities.general.positionEncodings = { "utf-8", "utf-16", "utf-32" }
@@ -47,6 +61,19 @@ local function run()
   else -- Neovim 0.7
     vim.lsp.buf_attach_client(bufnr, vim.lsp.start_client(config))
   end
+end
+
+local function run()
+  if setup.documented then
+    documented()
+  end
+  vim.cmd("edit " .. vim.fn.fnameescape(setup.file))
+  local bufnr = vim.api.nvim_get_current_buf()
+  record.filetype = vim.bo[bufnr].filetype
+  record.commentstring = vim.bo[bufnr].commentstring
+  if not setup.documented then
+    start(bufnr)
+  end
 
   local function step(name, act)
     local before = vim.fn.json_encode(diagnostics(bufnr))
@@ -66,9 +93,11 @@ local function run()
                                 vim.split(edit.new_text, "\n", { plain = true }))
     end)
   end
-  step("configuration", function()
-    vim.fn.writefile(vim.split(setup.config_later, "\n", { plain = true }), setup.config)
-  end)
+  if setup.config_later ~= "" then
+    step("configuration", function()
+      vim.fn.writefile(vim.split(setup.config_later, "\n", { plain = true }), setup.config)
+    end)
+  end
   for _, client in ipairs((vim.lsp.get_clients or vim.lsp.get_active_clients)()) do
     record.offset_encoding = client.offset_encoding
   end

@@ -24,7 +24,8 @@ if ! cmp -s package-lock.json node_modules/.package-lock.json 2>/dev/null \
 fi
 
 echo "== JSON files parse"
-for f in package.json language-configuration.json syntaxes/scriptc.tmLanguage.json; do
+for f in package.json language-configuration.json test-language-configuration.json \
+         syntaxes/scriptc.tmLanguage.json syntaxes/scriptc-test.tmLanguage.json; do
   node -e 'JSON.parse(require("fs").readFileSync(process.argv[1], "utf8"))' "$f"
 done
 node --check extension.js
@@ -40,13 +41,15 @@ grep -E '^# (pass|fail)' "$log"; rm -f "$log"
 echo "== vsix"
 rm -f scriptc.vsix
 npx --no-install vsce package --allow-missing-repository --out scriptc.vsix </dev/null
-# The package must hold the manifest, the client, the grammar, the language configuration
+# The package must hold the manifest, the client, the grammars, the language configurations
 # and the client library (a runtime dependency), and nothing of the tests or the dev tools.
 python3 - <<'PY'
 import os, sys, zipfile
 names = zipfile.ZipFile("scriptc.vsix").namelist()
 need = ["extension/package.json", "extension/extension.js", "extension/LICENSE.txt",
         "extension/syntaxes/scriptc.tmLanguage.json", "extension/language-configuration.json",
+        "extension/syntaxes/scriptc-test.tmLanguage.json",
+        "extension/test-language-configuration.json",
         "extension/node_modules/vscode-languageclient/node.js"]
 missing = [n for n in need if n not in names]
 unwanted = [n for n in names if n.startswith(("extension/tests/", "extension/scripts/"))

@@ -58,13 +58,13 @@ test("scriptc.path: a command name, a path relative to the workspace, ${workspac
   assert.strictEqual(extension.resolveCommand(""), "scriptc");
 });
 
-test("activate starts `scriptc lsp` over stdio for scriptc documents", async () => {
+test("activate starts `scriptc lsp` over stdio for scriptc documents and test files", async () => {
   const context = { subscriptions: [] };
   await extension.activate(context);
   assert.strictEqual(started.length, 1);
   const client = started[0];
   assert.deepStrictEqual(client.serverOptions.run, { command: "scriptc", args: ["lsp"], transport: 0 });
-  assert.deepStrictEqual(client.clientOptions.documentSelector.map((s) => s.language), ["scriptc", "scriptc"]);
+  assert.deepStrictEqual(client.clientOptions.documentSelector.map((s) => s.language), ["scriptc", "scriptc", "scriptc-test"]);
   assert.ok(typeof commands["scriptc.restartServer"] === "function");
   settings.path = ".venv/bin/scriptc";
   await commands["scriptc.restartServer"]();

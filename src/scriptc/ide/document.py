@@ -8,9 +8,11 @@ of one) stays a lone surrogate code point. That is exactly the client's text rea
 so offsets and UTF-16 columns never drift apart, whatever the edits (UTF-8 and UTF-32
 clients cannot split a character).
 
+`TextDocument` is that text and its version, edited; `Document`, a script's, adds its analysis:
 `Document.snapshot()` analyses the current text if it changed (`scriptc.ide.incremental`)
 and returns the `Snapshot` every editor feature reads. `configured_document` opens a file's
-document under its repository's setup, as `scriptc lint` reads the file.
+document under its repository's setup, as `scriptc lint` reads the file. A document of
+another kind (a test file) is a `TextDocument` too (`scriptc.ide.checked`).
 """
 
 from __future__ import annotations
@@ -31,30 +33,25 @@ def canonical(text: str) -> str:
     return text.encode("utf-16-le", "surrogatepass").decode("utf-16-le", "surrogatepass")
 
 
-class Document:
-    """One open document. Not thread-safe (the server uses it from its event loop)."""
+class TextDocument:
+    """One open document's text (in the canonical form above) and version, edited by offsets.
+    Not thread-safe (the server uses it from its event loop)."""
 
-    def __init__(self, uri: str, text: str, version: int | None = None, *, path: str = "",
-                 functions: FunctionRegistry = STANDARD, policy=None, profile=None) -> None:
-        """`functions`: the registry the checks use (a repository's configuration extends
-        the standard one); `policy`: what is reported of the diagnostics found (a
-        configuration's selection and severities, `Settings.apply`), None for everything;
-        `profile`: the robot profile of the safety checks (None: the defaults)."""
+    def __init__(self, uri: str, text: str, version: int | None = None, *,
+                 path: str = "") -> None:
         self.uri = uri
         self.path = path or uri
         self.version = version
-        self.policy = policy
         self.text = canonical(text)
-        self._analyzer = Analyzer(functions, slack=True, profile=profile)
-        self._snapshot: Snapshot | None = None
-        # The edits since the last analysis, for the analyser to follow (None: unknown).
-        self._edits: list[tuple[int, int, str]] | None = None
+
+    def changed(self, edit: tuple[int, int, str] | None) -> None:
+        """The text changed by `edit` (`(start, end, new_text)` of the old text), or was
+        replaced whole (None): what a subclass derives from the text is stale."""
 
     def set_text(self, text: str, version: int | None = None) -> None:
         self.text = canonical(text)
         self.version = version
-        self._snapshot = None
-        self._edits = None
+        self.changed(None)
 
     def replace(self, start: int, end: int, new_text: str) -> None:
         """Replace `text[start:end]` (clamped to the text, ends in either order)."""
@@ -74,8 +71,30 @@ class Document:
             # As one edit of the old text: the window, from `lo` to where it ended there.
             edit = (lo, end + (hi - start - len(new_text)), joined)
         self.text = text
+        self.changed(edit)
+
+
+class Document(TextDocument):
+    """An open script, analysed as `scriptc lint` analyses it."""
+
+    def __init__(self, uri: str, text: str, version: int | None = None, *, path: str = "",
+                 functions: FunctionRegistry = STANDARD, policy=None, profile=None) -> None:
+        """`functions`: the registry the checks use (a repository's configuration extends
+        the standard one); `policy`: what is reported of the diagnostics found (a
+        configuration's selection and severities, `Settings.apply`), None for everything;
+        `profile`: the robot profile of the safety checks (None: the defaults)."""
+        super().__init__(uri, text, version, path=path)
+        self.policy = policy
+        self._analyzer = Analyzer(functions, slack=True, profile=profile)
+        self._snapshot: Snapshot | None = None
+        # The edits since the last analysis, for the analyser to follow (None: unknown).
+        self._edits: list[tuple[int, int, str]] | None = None
+
+    def changed(self, edit: tuple[int, int, str] | None) -> None:
         self._snapshot = None
-        if self._edits is not None:
+        if edit is None:
+            self._edits = None
+        elif self._edits is not None:
             self._edits.append(edit)
 
     def reset_analyzer(self) -> None:

@@ -29,6 +29,12 @@ Decisions:
   severities), read when the document is opened and again when a configuration file is
   created, changed or deleted: the server asks the client to watch `scriptc.toml` and
   `pyproject.toml` files, and looks at them itself once a second as well (`initialized`).
+- **Test files** (`*.test.toml`, docs/testing.md) are documents too: their diagnostics are
+  the problems `scriptc test` finds in them (T001-T005, the test file's reader over the
+  editor's text, `scriptc.ide.checked`), pushed and pulled as a script's are, in the same
+  position encoding; the features of scripts (hover, completion, formatting...) answer None
+  for them. A test file's document is told apart by its path, whatever the client calls its
+  language.
 - **Codes link to their explanation**: a diagnostic's `codeDescription` is the explanation
   file shipped in the package (the codes have no public page). A hover on a code (in a
   suppression comment, say) shows it too, and the command `scriptc.explain CODE` returns it
@@ -68,7 +74,8 @@ from scriptc.ide import (
     tokens,
 )
 from scriptc.ide.answers import RenameError
-from scriptc.ide.document import Document, configured_document
+from scriptc.ide.checked import CheckedDocument
+from scriptc.ide.document import Document, TextDocument, configured_document
 from scriptc.project.config.load import CONFIG_FILES
 from scriptc.server import convert
 from scriptc.server.pyglsshim import (
@@ -78,6 +85,7 @@ from scriptc.server.pyglsshim import (
     serve_stdio,
 )
 from scriptc.server.pyglsshim import Protocol as PyglsProtocol
+from scriptc.testing import is_test_file
 
 log = logging.getLogger("scriptc.server")
 
@@ -134,13 +142,14 @@ class ScriptcServer(LanguageServer):
     def __init__(self) -> None:
         super().__init__("scriptc", __version__, protocol_cls=ScriptcProtocol,
                          text_document_sync_kind=lsp.TextDocumentSyncKind.Incremental)
-        self.documents: dict[str, Document] = {}
+        self.documents: dict[str, Document | CheckedDocument] = {}
         self.push = True  # push diagnostics (pull requests are answered in any case)
         self.snippets = False
         # The client's formats for completion documentation (LSP `documentationFormat`).
         self.markdown_docs = False
         self._idle: asyncio.TimerHandle | None = None
-        self._dirty: dict[str, Document] = {}  # documents whose diagnostics are due
+        # Documents whose diagnostics are due.
+        self._dirty: dict[str, Document | CheckedDocument] = {}
         self.pull = False  # the client pulls diagnostics
         # The position encoding agreed at `initialize` (the client's first offer that
         # pygls supports, answered as `positionEncoding`): every position is counted in it.
@@ -152,14 +161,23 @@ class ScriptcServer(LanguageServer):
 
     # -- documents ---------------------------------------------------------------------------
 
-    def document(self, uri: str) -> Document | None:
+    def document(self, uri: str) -> Document | CheckedDocument | None:
         return self.documents.get(uri)
+
+    def open_document(self, uri: str, text: str, version: int | None
+                      ) -> Document | CheckedDocument:
+        """The document of `uri`: a test file checked as `scriptc test` checks it, or a script
+        with its repository's configuration (`configure`)."""
+        path = _path(uri)
+        if is_test_file(path):
+            return CheckedDocument(uri, text, version, path=path, check=_test_file_problems)
+        return self.configure(uri, text, version)
 
     def snapshot(self, uri: str):
         doc = self.documents.get(uri)
         return None if doc is None else self.analysed(doc)
 
-    def analysed(self, doc: Document):
+    def analysed(self, doc: Document | CheckedDocument):
         """The document's snapshot, analysed now if it changed, with the garbage collector
         kept off the new objects (see the module docstring)."""
         if doc.analysed:
@@ -190,7 +208,7 @@ class ScriptcServer(LanguageServer):
         its configuration again (as `scriptc lint` would now) and its diagnostics are renewed:
         pushed again, or pulled again at the server's request."""
         for uri, doc in list(self.documents.items()):
-            self.documents[uri] = fresh = self.configure(uri, doc.text, doc.version)
+            self.documents[uri] = fresh = self.open_document(uri, doc.text, doc.version)
             self.publish(fresh)
         workspace = self.client_capabilities.workspace
         refresh = workspace.diagnostics if workspace is not None else None
@@ -225,7 +243,7 @@ class ScriptcServer(LanguageServer):
             self._idle.cancel()
         self._idle = loop.call_later(IDLE_COLLECT_SECONDS, _collect)
 
-    def publish(self, doc: Document) -> None:
+    def publish(self, doc: Document | CheckedDocument) -> None:
         """Push the document's diagnostics as soon as the messages already received are
         handled: a burst of changes (a paste, a fast typist, a replay) is analysed once, at
         its end, and a lone change at once (no timer, no added latency)."""
@@ -254,6 +272,14 @@ class ScriptcServer(LanguageServer):
                 continue
             self.text_document_publish_diagnostics(lsp.PublishDiagnosticsParams(
                 uri=uri, diagnostics=diagnostics, version=doc.version))
+
+
+def _test_file_problems(text: str, path: str) -> list:
+    """The problems of a test file (T001-T005) whose text is `text`, its paths relative to
+    `path` (`scriptc.ide.checked.Check`)."""
+    from scriptc.testing.read import test_from_text
+
+    return test_from_text(text, path).diagnostics
 
 
 def _collect() -> None:
@@ -385,7 +411,7 @@ def _configured(uri: str, text: str, version: int | None) -> Document:
 @SERVER.feature(lsp.TEXT_DOCUMENT_DID_OPEN)
 def did_open(ls: ScriptcServer, params: lsp.DidOpenTextDocumentParams) -> None:
     item = params.text_document
-    doc = ls.documents[item.uri] = ls.configure(item.uri, item.text, item.version)
+    doc = ls.documents[item.uri] = ls.open_document(item.uri, item.text, item.version)
     ls.publish(doc)
 
 
@@ -453,7 +479,7 @@ class At:
 
     __slots__ = ("document", "positions", "snapshot")
 
-    def __init__(self, document: Document, snapshot, positions) -> None:
+    def __init__(self, document: TextDocument, snapshot, positions) -> None:
         self.document = document
         self.snapshot = snapshot
         self.positions = positions
@@ -465,14 +491,15 @@ class AtPosition(At):
 
     __slots__ = ("offset",)
 
-    def __init__(self, document: Document, snapshot, positions, offset: int) -> None:
+    def __init__(self, document: TextDocument, snapshot, positions, offset: int) -> None:
         super().__init__(document, snapshot, positions)
         self.offset = offset
 
 
 def _request(method: str, options=None, *, analysed: bool = True, position: bool = False):
     """Register the handler of a request about a document, through the one path: the
-    document (None answers a request about a document that is not open), its snapshot when
+    document (None answers a request about a document that is not open, or that is not a
+    script: a test file has diagnostics and none of these features), its snapshot when
     the feature reads the analysis (`analysed`; else its own text: formatting's edits are of
     the document's text), the positions in the negotiated encoding, and the offset of
     `params.position` (`position`). The handler gets `(ls, params, at)`, `at` an `At`, or an
@@ -481,7 +508,7 @@ def _request(method: str, options=None, *, analysed: bool = True, position: bool
     def register(answer):
         def handle(ls: ScriptcServer, params):
             doc = ls.document(params.text_document.uri)
-            if doc is None:
+            if not isinstance(doc, Document):
                 return None
             if analysed:
                 snapshot = ls.analysed(doc)
