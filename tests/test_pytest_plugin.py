@@ -295,3 +295,15 @@ def test_scriptc_runs_under_pytest_as_python_compiles_it(pytester: pytest.Pytest
         """)
     result = pytester.runpytest_subprocess("-p", "no:cacheprovider")
     result.assert_outcomes(passed=2)
+
+
+def test_the_examples_tests_pass_as_pytest_items(pytester: pytest.Pytester) -> None:
+    """The examples' own tests (examples/tests/), collected and run by the plugin from the
+    repository's configuration, as `scriptc test examples/` runs them."""
+    tests = sorted(p.name.removesuffix(".test.toml")
+                   for p in (EXAMPLES / "tests").glob("*.test.toml"))
+    assert tests
+    run = pytester.inline_run(str(EXAMPLES / "tests"), "-o", "scriptc_tests=true",
+                              "-p", "no:cacheprovider")
+    run.assertoutcome(passed=len(tests))
+    assert sorted(r.nodeid.rsplit("::", 1)[1] for r in reports(run).values()) == tests
