@@ -12,6 +12,11 @@
    expectations), `scriptc test -j 2` end to end in a fresh process (the interpreter's start,
    discovery, checking, the pool, the output). Target: under 10 s. And the same run in this
    process: how busy the two workers were (the tests' seconds over twice the run's).
+3. Tests of uneven lengths (the loop of 5 to 40 minutes) in four shards, the way a CI matrix
+   runs them: `scriptc test --shard I/4 --junit` in four fresh processes, split by count, then
+   by the durations a whole run recorded (`--durations`); the four reports merged (`scriptc
+   merge`) list every test exactly once. The seconds of each shard's tests, and the heaviest
+   shard against an even share.
 
     python bench/bench_test.py [--runs N] [--tests N]
 """
@@ -19,6 +24,7 @@
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import shutil
 import statistics
@@ -217,6 +223,58 @@ def bench_many(count: int, runs: int) -> None:
           f"{running:.2f} s running them, the two workers busy {busy:.0%} of that")
 
 
+def uneven_tests(folder: Path, count: int) -> None:
+    # The loop of the ten-minute activity, for an hour.
+    (folder / "loop.script").write_text(ten_minute_activity().replace("600000", "3600000"),
+                                        encoding="utf-8")
+    for i in range(count):
+        minutes = 5 * (i % 8 + 1)
+        (folder / f"u{i:03d}.test.toml").write_text(f"""\
+description = "the loop for {minutes} min"
+scripts = ["loop.script"]
+until = {minutes * 60000}
+
+[[expect]]
+event = "error"
+count = "0"
+""", encoding="utf-8")
+
+
+def bench_shards(count: int) -> None:
+    from xml.etree import ElementTree
+
+    def scriptc(folder: str, *args: str) -> None:
+        done = subprocess.run([sys.executable, "-m", "scriptc", *args], cwd=folder,
+                              capture_output=True, text=True, check=False)
+        assert done.returncode == 0, done.stdout[-2000:] + done.stderr[-2000:]
+
+    with tempfile.TemporaryDirectory() as folder:
+        uneven_tests(Path(folder), count)
+        scriptc(folder, "test", "-q", "-j", "1", "--durations", "durations.json")
+        recorded = json.loads((Path(folder) / "durations.json").read_text())["durations"]
+        for how, durations in (("by count", []), ("by recorded durations",
+                                                  ["--durations", "durations.json"])):
+            reports = [f"shard{i}.xml" for i in range(1, 5)]
+            for i, report in enumerate(reports, 1):
+                scriptc(folder, "test", "-q", "-j", "1", "--shard", f"{i}/4", "--junit",
+                        report, *durations)
+            scriptc(folder, "merge", "all.xml", *reports)
+            names = [case.get("name") for case in ElementTree.parse(
+                Path(folder) / "all.xml").getroot().iter("testcase")]
+            assert len(names) == len(set(names)) == count, "a test ran twice, or not at all"
+            parts = [list(ElementTree.parse(Path(folder) / report).getroot().iter(
+                "testcase")) for report in reports]
+            # What the split planned (the recorded seconds of each shard's tests), and what the
+            # shards took (their own seconds, on a machine whose load varies meanwhile).
+            planned = [sum(recorded[c.get("name")] for c in part) for part in parts]
+            loads = [sum(float(c.get("time") or 0) for c in part) for part in parts]
+            print(f"3. {count} tests of 5 to 40 min in 4 shards {how}: each ran exactly once "
+                  f"(the merged report lists {len(names)} tests); by the recorded seconds the "
+                  f"heaviest shard is {max(planned) / (sum(planned) / 4):.2f} times an even "
+                  f"share; the shards' tests took {', '.join(f'{load:.2f}' for load in loads)}"
+                  f" s, the heaviest {max(loads) / (sum(loads) / 4):.2f} times an even share")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=7)
@@ -224,6 +282,7 @@ def main() -> None:
     args = parser.parse_args()
     bench_ten_minutes(args.runs)
     bench_many(args.tests, max(1, args.runs // 3))
+    bench_shards(48)
 
 
 if __name__ == "__main__":
