@@ -484,9 +484,11 @@ def test_merge_joins_suites_of_one_name_and_keeps_the_others(repo: Path) -> None
                    '<testsuite name="inner" tests="1" failures="0" errors="0">'
                    '<testcase name="n"/></testsuite>',
                    host="b", value="2", out="second", stamp="2026-05-01T09:00:00")
-    c = junit_file(repo / "c.xml", name="other", cases='<testcase name="q"><skipped/></testcase>')
-    d = junit_file(repo / "d.xml", out="\n  ", stamp="2026-05-03T08:00:00")
-    result = scriptc("merge", "out.xml", a, b, c, d)
+    c = junit_file(repo / "c.xml", name="other", time="",  # no time: its cases' added up
+                   cases='<testcase name="q" time="0.25"><skipped/></testcase>')
+    d = junit_file(repo / "d.xml", out="\n  ", stamp="2026-05-03T08:00:00", time="-3")
+    e = junit_file(repo / "e.xml", time="nan", value="1")  # no number of seconds: none
+    result = scriptc("merge", "out.xml", a, b, c, d, e)
     assert result.exit_code == 0, result.output
     report = read_junit(repo / "out.xml")
     assert report.name is None  # two suites of two names: neither names the whole
@@ -497,12 +499,12 @@ def test_merge_joins_suites_of_one_name_and_keeps_the_others(repo: Path) -> None
     root = ElementTree.parse(repo / "out.xml").getroot()
     assert [case.get("name") for case in root.iterfind("testsuite/testsuite/testcase")] == ["n"]
     assert (first.tests, first.failures, first.errors, first.skipped) == (4, 1, 1, 0)
-    assert first.time == pytest.approx(1004.5)
+    assert first.time == pytest.approx(1003.0)
     assert first.hostname is None  # the machines differ: neither is kept
     assert first.timestamp == "2026-05-01T09:00:00"  # the earliest
     assert [(p.name, p.value) for p in first.properties()] == [("p", "1"), ("p", "2")]
     assert [suite.findtext("system-out") for suite in root] == ["first\nsecond\n", None]
-    assert (other.tests, other.skipped, other.hostname) == (1, 1, "a")
+    assert (other.tests, other.skipped, other.hostname, other.time) == (1, 1, "a", 0.25)
     assert (report.tests, report.failures, report.errors) == (5, 1, 1)
 
 

@@ -25,6 +25,7 @@ visible picture (U+2400 block), anything else XML cannot hold becomes U+FFFD.
 
 from __future__ import annotations
 
+import math
 import re
 from collections.abc import Sequence
 from datetime import datetime
@@ -60,7 +61,7 @@ def _xml(text: str) -> str:
 
 def _seconds(s: float) -> str:
     """Seconds as the schema's time (`SUREFIRE_TIME`): at most three decimals."""
-    return f"{max(s, 0.0):.3f}"
+    return f"{s:.3f}"
 
 
 def _classname(key: str) -> str:
@@ -200,13 +201,16 @@ def is_junit(data: bytes) -> bool:
 
 def _time(element: ET.Element) -> float:
     """An element's `time` in seconds (`1,234.5` as the schema allows: thousands with commas);
-    without one, its cases' times added up."""
+    without one, its cases' times added up. A time that is no number of seconds (text,
+    negative, `nan`) counts as none: the merged report stays valid."""
     written = (element.get("time") or "").replace(",", "")
+    if not written:
+        return sum(_time(case) for case in element if case.tag == "testcase")
     try:
-        return float(written) if written else sum(_time(case) for case in element
-                                                  if case.tag == "testcase")
+        seconds = float(written)
     except ValueError:
         return 0.0
+    return seconds if math.isfinite(seconds) and seconds > 0 else 0.0
 
 
 def _suites(name: str, data: bytes) -> list[ET.Element]:
