@@ -1,6 +1,8 @@
 """What every semantic pass reads: the script, its source, the function registry, and tables
-built once per script (blocks in execution order, the label table) so that no pass loops over
-the script more than a few times (a 10,000-block script must check in well under 0.3 s).
+built once per script (blocks in execution order, the label table, each instruction block's
+tracks read into numbers and how long the block runs) so that no pass loops over the script
+more than a few times, nor reads a number's text twice (a 10,000-block script must check in
+well under 0.3 s).
 
 Also small helpers the passes share: the span of a block's head, a line's indentation (for
 fixes that insert a line) and did-you-mean suggestions.
@@ -8,13 +10,25 @@ fixes that insert a line) and did-you-mean suggestions.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable
 from dataclasses import dataclass
 from functools import cached_property
 
 from scriptc.diagnostics.model import Fix, TextEdit
 from scriptc.ir.builtins import STANDARD, FunctionRegistry
-from scriptc.ir.nodes import Block, InstructionBlock, JumpBlock, Name, Script
+from scriptc.ir.nodes import (
+    Block,
+    InstructionBlock,
+    JumpBlock,
+    LedCommand,
+    MoveCommand,
+    Name,
+    Number,
+    Script,
+)
+from scriptc.numbers import whole_number
+from scriptc.robot.motion import Velocity
 from scriptc.robot.profile import DEFAULT_PROFILE, Profile
 from scriptc.source import SourceFile, SourceKind, Span
 
@@ -28,6 +42,106 @@ class LabelTable:
     index: dict[str, int]
     names: dict[str, Name]  # the first definition of each label
     duplicates: tuple[tuple[Name, Name], ...]  # (later definition, first definition)
+
+
+def number(n: Number) -> float | None:
+    """The number, or None when it is not a finite one (V002/V003 report those)."""
+    try:
+        v = float(n.text)
+    except ValueError:
+        return None
+    return v if math.isfinite(v) else None
+
+
+def whole_ms(n: Number) -> int | None:
+    """A time as whole milliseconds, or None (V006 reports the others)."""
+    v = number(n)
+    return int(v) if v is not None and v >= 0 and v == int(v) else None
+
+
+# A move command read (`Tracks.moves`): its velocity (v_x, v_y, v_theta), None unless all three
+# are finite numbers, then its `wait_t` and `duration` as whole milliseconds (`whole_ms`).
+MoveRead = tuple[Velocity | None, int | None, int | None]
+# An LED command read (`Tracks.leds`): its colour (r, g, b) as `float` reads each channel,
+# None when one is not a number at all; whether it lights (`turnas` 1 and some channel a finite
+# number above 0, whatever its duration); its `wait_t` and `duration` as whole milliseconds.
+LedRead = tuple[tuple[float, float, float] | None, bool, int | None, int | None]
+
+
+class Tracks:
+    """An instruction block's tracks read into numbers (`Context.tracks`): `moves[i]` and
+    `leds[i]` are the i-th move and LED commands of `block` read; `duration` is how long the
+    block runs: its three tracks start together and each runs its commands one after the
+    other, `wait_t` then `duration` (docs/runtime.md), so the block lasts as long as its
+    longest track; None when a time is not a whole number written as one (digits and a sign,
+    no fraction or exponent: V006 says how to write it), or has hundreds of digits (V003).
+    `plain` is True when every time of the block is a few ASCII digits (under 16: no sign,
+    fraction or exponent), as nearly every time is."""
+
+    __slots__ = ("block", "duration", "leds", "moves", "plain")
+
+    def __init__(self, block: InstructionBlock, moves: list[MoveRead], leds: list[LedRead],
+                 duration: int | None, plain: bool) -> None:
+        self.block, self.moves, self.leds = block, moves, leds
+        self.duration, self.plain = duration, plain
+
+
+def read_tracks(block: InstructionBlock) -> Tracks:
+    """The block's tracks read (`Tracks`). A 1 MB script holds some 100,000 numbers: the
+    common texts (a few ASCII digits; a finite decimal) are read inline, the others by
+    `whole_ms`, `number` and `whole_number`."""
+    isfinite = math.isfinite
+    moves: list[MoveRead] = []
+    leds: list[LedRead] = []
+    longest: int | None = 0
+    plain = True
+    for track in (block.moves, block.leds, block.audios):
+        total = 0
+        for command in track:
+            w, d = command.wait_t.text, command.duration.text
+            wait: int | None
+            duration: int | None
+            # (under 16 digits, float() is exact: `whole_ms` and `whole_number` agree)
+            if (w.isdigit() and d.isdigit() and len(w) < 16 and len(d) < 16 and w.isascii()
+                    and d.isascii()):
+                wait, duration = int(w), int(d)
+                total += wait + duration
+            else:
+                plain = False
+                wait, duration = whole_ms(command.wait_t), whole_ms(command.duration)
+                exact = (whole_number(w), whole_number(d)) if (
+                    command.wait_t.is_integer_text and command.duration.is_integer_text) else None
+                if exact is None or exact[0] is None or exact[1] is None:
+                    longest = None
+                else:
+                    total += exact[0] + exact[1]
+            if isinstance(command, MoveCommand):
+                velocity: Velocity | None
+                try:
+                    velocity = (float(command.v_x.text), float(command.v_y.text),
+                                float(command.v_theta.text))
+                except ValueError:
+                    velocity = None
+                if velocity is not None and not (
+                        isfinite(velocity[0]) and isfinite(velocity[1]) and isfinite(velocity[2])):
+                    velocity = None
+                moves.append((velocity, wait, duration))
+            elif isinstance(command, LedCommand):
+                colour: tuple[float, float, float] | None
+                try:
+                    colour = (float(command.r.text), float(command.g.text),
+                              float(command.b.text))
+                except ValueError:
+                    colour = None
+                lights = command.turnas.text.strip() == "1" and (
+                    any((number(c) or 0) > 0 for c in (command.r, command.g, command.b))
+                    if colour is None else  # (finite and above 0: `number`)
+                    0.0 < colour[0] < math.inf or 0.0 < colour[1] < math.inf
+                    or 0.0 < colour[2] < math.inf)
+                leds.append((colour, lights, wait, duration))
+        if longest is not None and total > longest:
+            longest = total
+    return Tracks(block, moves, leds, longest, plain)
 
 
 class Context:
@@ -71,11 +185,19 @@ class Context:
         return LabelTable(index, names, tuple(duplicates))
 
     @cached_property
+    def tracks(self) -> list[Tracks | None]:
+        """Each block's tracks read into numbers, in execution order (`read_tracks`; None for
+        a block that is not an instruction block). Read once: safety (K001, K002), its ramps
+        (K003) and `durations` read them."""
+        return [read_tracks(b) if isinstance(b, InstructionBlock) else None
+                for b in self.blocks]
+
+    @cached_property
     def durations(self) -> list[int | None]:
         """How long each block runs, in execution order: an instruction block's
-        `duration_ms` (None when a time is not a whole number), 0 for the other blocks, which
-        take no time. Computed once: flow (F002) and safety (K002, K003) read it."""
-        return [b.duration_ms if isinstance(b, InstructionBlock) else 0 for b in self.blocks]
+        `Tracks.duration` (None when a time is not a whole number), 0 for the other blocks,
+        which take no time. Flow (F002) and safety (K002, K003) read it."""
+        return [0 if t is None else t.duration for t in self.tracks]
 
     @cached_property
     def jumps(self) -> list[tuple[int, JumpBlock]]:

@@ -32,11 +32,11 @@ import math
 from collections import deque
 from itertools import pairwise
 
-from scriptc.check.context import Context
+from scriptc.check.context import Context, Tracks
 from scriptc.check.flow import next_timed, successors
 from scriptc.diagnostics.codes import diagnostic
 from scriptc.diagnostics.model import Diagnostic, Label
-from scriptc.ir.nodes import InstructionBlock, MoveCommand, Number
+from scriptc.ir.nodes import InstructionBlock, MoveCommand
 from scriptc.robot.motion import (
     GROUPS,
     REST,
@@ -81,21 +81,6 @@ _NO_BLAME: _Blame = (-1, REST.key(), 0.0)
 _State = tuple[int, Entry, _Error, int, _Blame]
 
 
-def number(n: Number) -> float | None:
-    """The number, or None when it is not a finite one (V002/V003 report those)."""
-    try:
-        v = float(n.text)
-    except ValueError:
-        return None
-    return v if math.isfinite(v) else None
-
-
-def whole_ms(n: Number) -> int | None:
-    """A time as whole milliseconds, or None (V006 reports the others)."""
-    v = number(n)
-    return int(v) if v is not None and v >= 0 and v == int(v) else None
-
-
 # `_Moves.key`: blocks with the same steps and length run alike.
 _MovesKey = tuple[tuple[tuple[int, Velocity], ...], int]
 
@@ -124,22 +109,23 @@ class _Moves:
         return found
 
 
-def _read(index: int, block: InstructionBlock, length: int | None,
-          profile: Profile) -> _Moves | None:
+def _read(index: int, tracks: Tracks, profile: Profile) -> _Moves | None:
+    """The move track of an instruction block (its tracks read), or None when the block
+    takes no time or a number of its moves is not readable (V002, V003, V006)."""
+    length = tracks.duration
     if not length or length < 0:
         return None
     moves: list[tuple[Velocity, int, int]] = []
     starts: list[int] = []
     t = 0
-    for mv in block.moves:
-        v_x, v_y, v_theta = number(mv.v_x), number(mv.v_y), number(mv.v_theta)
-        wait, duration = whole_ms(mv.wait_t), whole_ms(mv.duration)
-        if v_x is None or v_y is None or v_theta is None or wait is None or duration is None:
+    for velocity, wait, duration in tracks.moves:
+        if velocity is None or wait is None or duration is None:
             return None
         t += wait
         starts.append(t)
         t += duration
-        moves.append((limit_speed((v_x, v_y, v_theta), profile)[0], wait, duration))
+        moves.append((limit_speed(velocity, profile)[0], wait, duration))
+    block = tracks.block
     return _Moves(index, block, list(block.moves), starts, track_steps(moves), length)
 
 
@@ -159,8 +145,7 @@ def _at_rest(entry: Entry) -> bool:
 def check_ramps(ctx: Context, profile: Profile, out: list[Diagnostic]) -> None:
     blocks = ctx.blocks
     durations = ctx.durations
-    reads = [_read(i, b, durations[i], profile) if isinstance(b, InstructionBlock) else None
-             for i, b in enumerate(blocks)]
+    reads = [None if t is None else _read(i, t, profile) for i, t in enumerate(ctx.tracks)]
     if not blocks or not any(r is not None and r.block.moves for r in reads):
         return  # nothing moves
     rates = rates_of(profile)

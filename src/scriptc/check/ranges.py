@@ -22,7 +22,6 @@ from scriptc.ir.nodes import (
     ClassAssignment,
     Condition,
     FieldTest,
-    InstructionBlock,
     JumpBlock,
     Number,
     NumberValue,
@@ -45,26 +44,40 @@ def check_values(ctx: Context) -> list[Diagnostic]:
     for msg in (*ctx.script.alfa, *ctx.script.omega):
         _whole(msg.rulecode, "the rulecode", 0, MAX_RULECODE, "V007", fixes, out)
     # A 1 MB script holds some 100,000 numbers: each check starts with a fast path for the
-    # common, valid text and leaves the rest (and every message) to the slow path.
-    for block in ctx.blocks:
-        if isinstance(block, InstructionBlock):
-            for mv in block.moves:
-                for name, number in (("v_x", mv.v_x), ("v_y", mv.v_y), ("v_theta", mv.v_theta)):
-                    if not _plain_finite(number.text, MAX_ROBOT_FLOAT):
-                        _finite(number, f"`{name}`", out, MAX_ROBOT_FLOAT)
-                _time(mv.wait_t, "`wait_t`", fixes, out)
-                _time(mv.duration, "`duration`", fixes, out)
-            for led in block.leds:
-                for channel, number in (("r", led.r), ("g", led.g), ("b", led.b)):
-                    if not _plain_unit(number.text):
-                        _colour(number, channel, out)
+    # common, valid numbers (read once, `ctx.tracks`) and leaves the rest (and every message)
+    # to the slow path, which reads the text.
+    limit = MAX_ROBOT_FLOAT
+    for block, tracks in zip(ctx.blocks, ctx.tracks, strict=True):
+        if tracks is not None:  # an instruction block: `tracks.block`
+            # every time a few digits, and the longest track within the limit: so is each time
+            times = not (tracks.plain and tracks.duration is not None
+                         and tracks.duration <= MAX_TIME)
+            for mv, (velocity, _, _) in zip(tracks.block.moves, tracks.moves, strict=True):
+                if velocity is None or not (-limit <= velocity[0] <= limit
+                                            and -limit <= velocity[1] <= limit
+                                            and -limit <= velocity[2] <= limit):
+                    for name, number in (("v_x", mv.v_x), ("v_y", mv.v_y),
+                                         ("v_theta", mv.v_theta)):
+                        if not _plain_finite(number.text, limit):
+                            _finite(number, f"`{name}`", out, limit)
+                if times:
+                    _time(mv.wait_t, "`wait_t`", fixes, out)
+                    _time(mv.duration, "`duration`", fixes, out)
+            for led, (colour, _, _, _) in zip(tracks.block.leds, tracks.leds, strict=True):
+                if colour is None or not (0.0 <= colour[0] <= 1.0 and 0.0 <= colour[1] <= 1.0
+                                          and 0.0 <= colour[2] <= 1.0):
+                    for channel, number in (("r", led.r), ("g", led.g), ("b", led.b)):
+                        if not _plain_unit(number.text):
+                            _colour(number, channel, out)
                 if led.turnas.text not in ("0", "1"):
                     _turnas(led.turnas, fixes, out)
-                _time(led.wait_t, "`wait_t`", fixes, out)
-                _time(led.duration, "`duration`", fixes, out)
-            for ao in block.audios:
-                _time(ao.wait_t, "`wait_t`", fixes, out)
-                _time(ao.duration, "`duration`", fixes, out)
+                if times:
+                    _time(led.wait_t, "`wait_t`", fixes, out)
+                    _time(led.duration, "`duration`", fixes, out)
+            if times:
+                for ao in tracks.block.audios:
+                    _time(ao.wait_t, "`wait_t`", fixes, out)
+                    _time(ao.duration, "`duration`", fixes, out)
         elif isinstance(block, JumpBlock):
             for number in condition_numbers(block.condition):
                 if not _plain_finite(number.text):

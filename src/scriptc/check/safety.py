@@ -40,13 +40,14 @@ import math
 from collections.abc import Iterator
 from dataclasses import dataclass
 
-from scriptc.check.context import Context
+from scriptc.check.context import Context, Tracks
 from scriptc.check.flow import next_timed, successors
-from scriptc.check.ramps import check_ramps, number, whole_ms
+from scriptc.check.ramps import check_ramps
 from scriptc.diagnostics.codes import diagnostic
 from scriptc.diagnostics.model import Diagnostic, Label
 from scriptc.gcpause import gc_paused
-from scriptc.ir.nodes import InstructionBlock, JumpBlock, LedCommand, MoveCommand, block_path
+from scriptc.ir.nodes import JumpBlock, LedCommand, MoveCommand, block_path
+from scriptc.robot.motion import Velocity
 from scriptc.robot.profile import Profile
 
 WINDOW_MS = 1000
@@ -69,12 +70,15 @@ def check_safety(ctx: Context) -> list[Diagnostic]:
     profile: Profile = ctx.profile
     out: list[Diagnostic] = []
     lights = False
-    for block in ctx.blocks:
-        if not isinstance(block, InstructionBlock):
+    max_linear, max_angular = profile.max_linear_speed, profile.max_angular_speed
+    for tracks in ctx.tracks:
+        if tracks is None:
             continue
-        for mv in block.moves:
-            _speed(mv, profile, out)
-        lights = lights or bool(block.leds)
+        for mv, (velocity, _, _) in zip(tracks.block.moves, tracks.moves, strict=True):
+            if velocity is not None and (math.hypot(velocity[0], velocity[1]) > max_linear
+                                         or abs(velocity[2]) > max_angular):
+                _speed(mv, velocity, profile, out)
+        lights = lights or bool(tracks.leds)
     if lights:
         with gc_paused():  # many small acyclic objects (scriptc/gcpause.py)
             _Timeline(ctx, profile).check(out)
@@ -82,10 +86,11 @@ def check_safety(ctx: Context) -> list[Diagnostic]:
     return out
 
 
-def _speed(mv: MoveCommand, profile: Profile, out: list[Diagnostic]) -> None:
-    v_x, v_y, w = number(mv.v_x), number(mv.v_y), number(mv.v_theta)
-    if v_x is None or v_y is None or w is None:
-        return  # reported by V002/V003
+def _speed(mv: MoveCommand, velocity: Velocity, profile: Profile,
+           out: list[Diagnostic]) -> None:
+    """K001 for a move whose velocity (finite: V002/V003 report the others) is above the
+    profile's."""
+    v_x, v_y, w = velocity
     speed = math.hypot(v_x, v_y)
     source = "" if profile.source == "defaults" else f" (from {profile.source})"
     if speed > profile.max_linear_speed:
@@ -125,9 +130,10 @@ class _Track:
         return bool(self.times) and self.times[0] == 0
 
 
-def _track(block: InstructionBlock, duration: int | None) -> _Track | None:
-    """The block's LED track (the block lasts `duration`), or None when the block takes no
-    time (control passes through it in the same millisecond, as through a jump)."""
+def _track(tracks: Tracks) -> _Track | None:
+    """The LED track of an instruction block (its tracks read), or None when the block
+    takes no time (control passes through it in the same millisecond, as through a jump)."""
+    duration = tracks.duration
     if duration == 0:
         return None
     if duration is not None and duration < 0:
@@ -136,15 +142,13 @@ def _track(block: InstructionBlock, duration: int | None) -> _Track | None:
     leds: list[LedCommand] = []
     t = 0
     lit = False  # the LEDs are off when a block starts and between commands
-    for led in block.leds:
-        wait, length = whole_ms(led.wait_t), whole_ms(led.duration)
+    for led, (_, lights, wait, length) in zip(tracks.block.leds, tracks.leds, strict=True):
         if wait is None or length is None:
             return _Track(duration, [], [], False)  # V006
         t += wait
         if wait > 0:
             lit = False
-        on = led.turnas.text.strip() == "1" and length > 0 and any(
-            (number(c) or 0) > 0 for c in (led.r, led.g, led.b))
+        on = lights and length > 0
         if on and not lit:
             times.append(t)
             leds.append(led)
@@ -188,8 +192,7 @@ class _Timeline:
         self.ctx = ctx
         self.blocks = ctx.blocks
         self._succ: tuple[list[tuple[int, ...]], bool] | None = None
-        self.tracks = [_track(b, d) if isinstance(b, InstructionBlock) else None
-                       for b, d in zip(self.blocks, ctx.durations, strict=True)]
+        self.tracks = [None if t is None else _track(t) for t in ctx.tracks]
         self.timed = [track is not None for track in self.tracks]
         self.limit = profile.max_led_flash_rate
         self._exits: dict[int, list[tuple[int, int]]] = {}

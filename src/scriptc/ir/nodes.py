@@ -19,7 +19,6 @@ from dataclasses import MISSING, dataclass, fields, is_dataclass
 from types import FunctionType
 from typing import TypeAlias, TypeVar, dataclass_transform
 
-from scriptc.numbers import whole_number
 from scriptc.source import Span
 
 _Node = TypeVar("_Node")
@@ -330,28 +329,6 @@ class InstructionBlock:
     leds: tuple[LedCommand, ...]
     audios: tuple[AudioCommand, ...]
     span: Span
-
-    @property
-    def duration_ms(self) -> int | None:
-        """How long the block runs: its three tracks start together and each runs its
-        commands one after the other, `wait_t` then `duration` (docs/runtime.md), so the block
-        lasts as long as its longest track. None when a time is not a whole number."""
-        longest = 0
-        for track in (self.moves, self.leds, self.audios):
-            total = 0
-            for command in track:
-                wait, duration = command.wait_t.text, command.duration.text
-                if not (wait.isdigit() and duration.isdigit() and wait.isascii()
-                        and duration.isascii()) and not (  # the common case first, then signs
-                        command.wait_t.is_integer_text and command.duration.is_integer_text):
-                    return None
-                wait_ms, duration_ms = whole_number(wait), whole_number(duration)
-                if wait_ms is None or duration_ms is None:  # hundreds of digits: V003
-                    return None
-                total += wait_ms + duration_ms
-            if total > longest:
-                longest = total
-        return longest
 
 
 @node
