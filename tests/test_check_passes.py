@@ -112,6 +112,15 @@ def test_goals_without_an_id_are_not_one_id_used_twice():
 # -- F: flow --------------------------------------------------------------------------------
 
 
+def test_a_script_without_blocks_has_no_flow():
+    """An action without blocks is the front end's error (S006); the checks, run on such a
+    script through the API, find no flow to judge (and no block to start from)."""
+    source = SourceFile("t.script", "[a]\n[goal:g]\n[action]\n")
+    analysis = analyze_script(source)
+    assert [d.code for d in analysis.diagnostics] == ["S006"]
+    assert check_script(analysis.script, source) == []
+
+
 def test_constant_true_jump_takes_only_its_true_branch():
     text = blocks(
         "[b##blk_jump: CND({TRUE}) TRJMP(end) FLSJMP()]",

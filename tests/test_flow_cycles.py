@@ -1,5 +1,6 @@
 """F002 against a brute-force reference: random small jump graphs, written as scripts, whose
-cycles that let no time pass are enumerated one simple cycle at a time.
+cycles that let no time pass are enumerated one simple cycle at a time; and the search for the
+blocks that take time next (`next_timed`) on the same graphs.
 
 The reference knows nothing of check/flow.py's graph or of Tarjan's algorithm. It takes the
 block-reader's rules from the graph the strategy drew (docs/runtime.md "The block reader"): a
@@ -19,8 +20,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from scriptc.check.context import Context
-from scriptc.check.flow import _MAX_CYCLE_LABELS, check_flow
+from scriptc.check.flow import _MAX_CYCLE_LABELS, check_flow, next_timed, successors
 from scriptc.frontend.script import lower_script
+from scriptc.ir.nodes import JumpBlock
 from scriptc.source import SourceFile
 
 # A condition that cannot be false, and one that can (the checks know no more of it).
@@ -204,3 +206,48 @@ def test_a_long_cycle_names_eight_blocks_and_counts_the_rest():
     ((first, others, _message, notes),) = reported(blocks, [])
     assert (first, others) == (0, tuple(range(1, 9)))
     assert notes[1] == "2 more blocks are part of the cycle"
+
+
+# -- next_timed: the blocks that take time control reaches without time passing ------------------
+# (the safety and ramp passes' search for what runs next), against a breadth-first reference.
+
+
+def spread(succ, froms, expand) -> set[int]:
+    """Every block reached from `froms`, going on from a block only when `expand(block)`."""
+    seen, todo = set(froms), list(froms)
+    while todo:
+        v = todo.pop()
+        if expand(v):
+            for w in succ[v]:
+                if w not in seen:
+                    seen.add(w)
+                    todo.append(w)
+    return seen
+
+
+@settings(max_examples=300, deadline=None)
+@given(graphs(), st.data())
+def test_next_timed_finds_each_timed_block_reached_once_with_its_last_jump(blocks, data):
+    n = len(blocks)
+    text = script_text(blocks, [])
+    source = SourceFile("t.script", text)
+    script, _problems = lower_script(source)
+    ctx = Context(script, source)
+    succ, _resolved = successors(ctx)
+    timed = data.draw(st.lists(st.booleans(), min_size=n, max_size=n))
+    starts = tuple(data.draw(st.lists(st.integers(0, n - 1), max_size=3)))
+    found = next_timed(ctx.blocks, succ, timed, starts, n + 1)
+    reached = spread(succ, starts, lambda v: not timed[v])
+    assert sorted(v for v, _via in found) == sorted(v for v in reached if timed[v])
+    is_jump = [isinstance(b, JumpBlock) for b in ctx.blocks]
+    plain = spread(succ, starts, lambda v: not timed[v] and not is_jump[v])
+    for v, via in found:
+        if via < 0:
+            assert v in plain  # no jump on the way
+        else:
+            assert is_jump[via] and not timed[via] and via in reached
+            assert v in spread(succ, succ[via], lambda u: not timed[u] and not is_jump[u])
+    # A limit stops the same search earlier: what it found is the start of the whole answer.
+    for limit in range(n + 1):
+        some = next_timed(ctx.blocks, succ, timed, starts, limit)
+        assert len(some) <= limit and some == found[:len(some)]

@@ -116,7 +116,7 @@ def _unreachable(ctx: Context, succ: list[tuple[int, ...]], out: list[Diagnostic
                 reached[w] = True
                 todo.append(w)
     addresses = [a for a, _ in ctx.addressed_blocks]
-    i = 0
+    i = 1  # the script starts at block 0
     while i < n:
         if reached[i]:
             i += 1
@@ -130,20 +130,21 @@ def _unreachable(ctx: Context, succ: list[tuple[int, ...]], out: list[Diagnostic
             after = "the next one" if count == 2 else f"the {count - 1} after it"
             notes.append(f"this block and {after} are never reached "
                          f"({block_path(addresses[i])} to {block_path(addresses[j])})")
+        # The block before the run was reached (block 0 always is) and does not go on to the
+        # next one: it is a terminus or a jump that goes elsewhere.
         labels = []
-        if i > 0 and reached[i - 1]:
-            before = blocks[i - 1]
-            if isinstance(before, TerminusBlock):
-                labels.append(Label(ctx.block_head(before), "the script ends here"))
-            elif isinstance(before, JumpBlock):
-                target = before.true_target.text if before.true_target else ""
-                if before.condition.is_constant_true and target in ctx.labels.index:
-                    if not ctx.is_script_syntax:  # labels were made up from JSON paths
-                        target = block_path(addresses[ctx.labels.index[target]])
-                    why = f"this jump always goes to `{target}`"
-                else:
-                    why = "neither branch of this jump goes on to the next block"
-                labels.append(Label(ctx.block_head(before), why))
+        before = blocks[i - 1]
+        if isinstance(before, TerminusBlock):
+            labels.append(Label(ctx.block_head(before), "the script ends here"))
+        elif isinstance(before, JumpBlock):
+            target = before.true_target.text if before.true_target else ""
+            if before.condition.is_constant_true and target in ctx.labels.index:
+                if not ctx.is_script_syntax:  # labels were made up from JSON paths
+                    target = block_path(addresses[ctx.labels.index[target]])
+                why = f"this jump always goes to `{target}`"
+            else:
+                why = "neither branch of this jump goes on to the next block"
+            labels.append(Label(ctx.block_head(before), why))
         out.append(
             diagnostic(
                 "F001",
