@@ -301,7 +301,7 @@ def test_the_examples_tests_pass_as_pytest_items(pytester: pytest.Pytester) -> N
     """The examples' own tests (examples/tests/), collected and run by the plugin from the
     repository's configuration, as `scriptc test examples/` runs them."""
     tests = sorted(p.name.removesuffix(".test.toml")
-                   for p in (EXAMPLES / "tests").glob("*.test.toml"))
+                   for p in (EXAMPLES / "tests").rglob("*.test.toml"))
     assert tests
     run = pytester.inline_run(str(EXAMPLES / "tests"), "-o", "scriptc_tests=true",
                               "-p", "no:cacheprovider")
