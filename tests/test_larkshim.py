@@ -28,6 +28,7 @@ from scriptc.syntax.larkshim import (
     terminal_literal,
     terminal_regexp,
     token_from_match,
+    tokens_from_match,
 )
 from scriptc.syntax.lexer import ContextualFastLexer
 from scriptc.syntax.parser import script_lark
@@ -175,6 +176,22 @@ def test_a_token_made_without_its_constructor_is_lark_token() -> None:
     assert (token.type, token.value, token.start_pos, token.end_pos) == \
         (made.type, made.value, made.start_pos, made.end_pos)
     assert Tree("x", [token]) == Tree("x", [made])
+
+
+def test_the_tokens_of_a_match_at_once_are_those_made_one_by_one() -> None:
+    """`tokens_from_match` makes, in one call, the tokens `token_from_match` makes: by group
+    number, in the order asked, with their slots."""
+    regex = re.compile(r"\s*(?P<NAME>[a-z]+)\s*(?P<EQ>=)\s*(?P<NUMBER>[0-9]+)")
+    m = regex.match("  blink = 42")
+    steps = ((regex.groupindex["NUMBER"], "NUMBER"), (regex.groupindex["NAME"], "NAME"))
+    at_once = tokens_from_match(m, steps)
+    one_by_one = [token_from_match(m, "NUMBER", "NUMBER"), token_from_match(m, "NAME", "NAME")]
+    slots = ("type", "value", "start_pos", "end_pos", "line", "column", "end_line", "end_column")
+    assert [[getattr(t, s) for s in slots] for t in at_once] == \
+        [[getattr(t, s) for s in slots] for t in one_by_one] == \
+        [["NUMBER", "42", 10, 12, None, None, None, None],
+         ["NAME", "blink", 2, 7, None, None, None, None]]
+    assert all(type(t) is Token for t in at_once) and at_once == ["42", "blink"]
 
 
 def test_the_shim_is_the_only_importer_of_lark() -> None:

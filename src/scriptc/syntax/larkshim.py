@@ -75,6 +75,7 @@ __all__ = [
     "terminal_literal",
     "terminal_regexp",
     "token_from_match",
+    "tokens_from_match",
     "unexpected_characters",
     "unexpected_token",
 ]
@@ -111,6 +112,25 @@ def token_from_match(m: re.Match[str], group: str, type_: str) -> Token:
     token.start_pos, token.end_pos = m.span(group)
     token.line = token.column = token.end_line = token.end_column = None
     return token
+
+
+def tokens_from_match(m: re.Match[str], steps: tuple[tuple[int, str], ...]) -> list[Token]:
+    """The tokens that one match read, as `token_from_match` makes them: per step, the
+    token of the terminal `type_` read by group number `group` (`steps`: (group, type_)
+    pairs). One call for a whole item: a large script has hundreds of thousands of tokens."""
+    text = m.string
+    tokens: list[Token] = []
+    for group, type_ in steps:
+        start, end = m.span(group)
+        value = text[start:end]
+        token: Token = _new_str(Token, value)
+        token.type = type_
+        token.value = value
+        token.start_pos = start
+        token.end_pos = end
+        token.line = token.column = token.end_line = token.end_column = None
+        tokens.append(token)
+    return tokens
 
 
 # ---------------------------------------------------------------------------------------------

@@ -46,6 +46,7 @@ from scriptc.syntax.larkshim import (
     Tree,
     lexer_of,
     token_from_match,
+    tokens_from_match,
 )
 from scriptc.syntax.lexer import ContextualFastLexer, Scanner
 
@@ -75,8 +76,8 @@ class _Node:
         self.retype = scanner.retype
         self.children: dict[str, _Node] = {}
         # Where an item ended (the node is a shape):
-        # the tree's code, reading the trie walk's matches and reading the one match of `hot`
-        self.template: tuple[_Code, _Code] | None = None
+        # the tree of its first item and where each of its tokens starts (`_template`)
+        self.template: tuple[ParseTree, list[int]] | None = None
         # the compiled template, from the second item of this shape on
         self.build: Callable[[list[re.Match[str]]], ParseTree] | None = None
         self.steps: list[tuple[str, str, Scanner]] = []  # (group, type, scanner) per token
@@ -193,13 +194,12 @@ class ShapeParser:
                 self._nodes += 1
             node = child
         if node.template is None:
-            starts = [m.start(group) for m, group, _, _ in path]
-            node.template = (
-                _template(tree, starts, lambda i: f"ms[{i}]", lambda i: path[i][1]),
-                _template(tree, starts, lambda i: "ms", lambda i: f"s{i}"))
+            node.template = (tree, [m.start(group) for m, group, _, _ in path])
             node.steps = [(group, type_, scanner) for _, group, type_, scanner in path]
         elif node.build is None:
-            node.build = _compile(*node.template[0])
+            node.build = _compile(*_template(
+                *node.template, lambda i, type_, constant:
+                f"T(ms[{i}], {constant(node.steps[i][0])}, {constant(type_)})"))
         self._last = None
         return tree
 
@@ -240,7 +240,18 @@ class ShapeParser:
         parts.append(f"{self._lexer.skip}\\Z")
         check = _compile(f"def build(m, C=C):\n    return {' and '.join(checks) or 'True'}\n",
                          constants)
-        return _Hot(re.compile("".join(parts)).match, check, _compile(*node.template[1]))
+        regex = re.compile("".join(parts))
+        # The tokens the tree holds (lark leaves punctuation out), read from the one match at
+        # once (`tokens_from_match`): (the group of token i, its type) in the tree's order.
+        steps: list[tuple[int, str]] = []
+
+        def token(i: int, type_: str, _constant: Callable[[object], str]) -> str:
+            steps.append((regex.groupindex[f"s{i}"], type_))
+            return f"ts[{len(steps) - 1}]"
+
+        code, constants = _template(*node.template, token, "ts = TS(ms, C[0])", None)
+        constants[0] = tuple(steps)
+        return _Hot(regex.match, check, _compile(code, constants))
 
     def _state_actions(self, state: int) -> dict[str, Action]:
         """The parse table's row of `state` (see `larkshim.Action`)."""
@@ -300,21 +311,24 @@ class ShapeParser:
 
 def _compile(code: str, constants: list[object]) -> _Generated:
     """The function `build` that `code` defines, reading `constants` as `C`."""
-    namespace: dict[str, object] = {"T": token_from_match, "Tree": Tree, "C": constants}
+    namespace: dict[str, object] = {"T": token_from_match, "TS": tokens_from_match, "Tree": Tree,
+                                    "C": constants}
     exec(compile(code, "<item shape>", "exec"), namespace)
     build = namespace["build"]
     assert callable(build)
     return build
 
 
-def _template(tree: ParseTree, starts: list[int], match_of: Callable[[int], str],
-              group_of: Callable[[int], str]) -> _Code:
-    """Python code of a function `build(ms)` that builds `tree` again from the matches `ms` of
-    an item of the same shape, and the constants it reads (rule names and token types, as lark
-    made them). Token i starts at `starts[i]` in the item; it is read from the match
-    `match_of(i)`, group `group_of(i)`."""
+def _template(tree: ParseTree, starts: list[int],
+              token_of: Callable[[int, str, Callable[[object], str]], str],
+              prelude: str = "", *first: object) -> _Code:
+    """Python code of a function `build(ms)` that builds `tree` again from the match or
+    matches `ms` of an item of the same shape, and the constants it reads (`first`, then rule
+    names and token types, as lark made them). Token i starts at `starts[i]` in the item; its
+    code is `token_of(i, its type, constant)` (`constant(value)`: the code reading a
+    constant); `prelude` is a line run first."""
     index = {start: i for i, start in enumerate(starts)}
-    constants: list[object] = []
+    constants: list[object] = list(first)
 
     def constant(value: object) -> str:
         constants.append(value)
@@ -325,10 +339,11 @@ def _template(tree: ParseTree, starts: list[int], match_of: Callable[[int], str]
             return "None"
         if isinstance(node, Token):
             assert node.start_pos is not None  # (the table parse's tokens have their offsets)
-            i = index[node.start_pos]
-            return f"T({match_of(i)}, {constant(group_of(i))}, {constant(node.type)})"
+            return token_of(index[node.start_pos], node.type, constant)
         children = ", ".join(code(child) for child in node.children)
         return f"Tree({constant(node.data)}, [{children}])"
 
     body = code(tree)
-    return f"def build(ms, T=T, Tree=Tree, C=C):\n    return {body}\n", constants
+    prelude = f"    {prelude}\n" if prelude else ""
+    return (f"def build(ms, T=T, TS=TS, Tree=Tree, C=C):\n{prelude}    return {body}\n",
+            constants)
