@@ -14,7 +14,7 @@ from harness import CASES
 from scriptc.analysis.analyze import analyze_script
 from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit
 from scriptc.ide.document import Document, canonical
-from scriptc.ide.incremental import Analyzer
+from scriptc.ide.incremental import INITIAL_PAD, MAX_PAD, Analyzer
 from scriptc.ide.pads import Layout
 from scriptc.ir import nodes
 from scriptc.ir.shift import _MAPPERS, _SHIFTERS, map_spans, shift
@@ -170,6 +170,53 @@ def test_set_text_starts_again() -> None:
     doc.snapshot()
     doc.set_text(SCRIPTS[2])
     assert_same_as_lint(doc)
+
+
+def assert_lint_of(result, text: str) -> None:
+    fresh = analyze_script(SourceFile("", text)).diagnostics
+    assert [real(d, result.layout) for d in result.diagnostics] == fresh
+    assert "".join(result.source.text[p:p + n] for p, n in result.layout.pads).strip() == ""
+
+
+def test_edits_that_cannot_be_followed_start_again() -> None:
+    """The language server's recovery: edits that do not lead to the text the client sent (a
+    change lost on the way), or that end before they start, are not followed; the analysis
+    starts again from the text, with fresh pads."""
+    first, second = SCRIPTS[1], SCRIPTS[2]
+    assert len(first) != len(second)
+    analyzer = Analyzer(slack=True)
+    analyzer.analyze(first)
+    result = analyzer.analyze(second, edits=[(0, 0, "")])
+    assert_lint_of(result, second)
+    assert {n for _p, n in result.layout.pads} == {INITIAL_PAD}
+    at = first.index("]") + 1
+    result = analyzer.analyze(first, edits=[(at + 3, at, "")])
+    assert_lint_of(result, first)
+    assert {n for _p, n in result.layout.pads} == {INITIAL_PAD}
+
+
+def test_a_large_deletion_inside_an_item_starts_again() -> None:
+    """A deletion inside one item grows the pad after it by what it took out; past MAX_PAD
+    the analysis text starts again from the document's (no pad longer than the first)."""
+    path = "x" * (MAX_PAD + 300)
+    text = (f'[a]\n[goal:g]\n[action]\n[b##blk_inst: MV() LD() AO("{path}, 0, 100")]\n'
+            "[b##blk_terminus]\n")
+    analyzer = Analyzer(slack=True)
+    analyzer.analyze(text)
+    at = text.index(path)
+    small = text[:at] + text[at + 100:]
+    result = analyzer.analyze(small, edits=[(at, at + 100, "")])
+    assert_lint_of(result, small)
+    assert max(n for _p, n in result.layout.pads) == INITIAL_PAD + 100  # the pad took it
+    cut = MAX_PAD - INITIAL_PAD - 100
+    large = small[:at] + small[at + cut:]
+    result = analyzer.analyze(large, edits=[(at, at + cut, "")])
+    assert_lint_of(result, large)
+    assert max(n for _p, n in result.layout.pads) == MAX_PAD  # the longest pad kept
+    larger = large[:at] + large[at + 1:]
+    result = analyzer.analyze(larger, edits=[(at, at + 1, "")])
+    assert_lint_of(result, larger)
+    assert {n for _p, n in result.layout.pads} == {INITIAL_PAD}
 
 
 # -- the pieces ---------------------------------------------------------------------------------

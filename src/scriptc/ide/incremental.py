@@ -174,9 +174,10 @@ class _CachingLowerer(_lower.Lowerer):
 
     def _cached(self, tree, span: Span, lower):
         a = self.analyzer
-        entry = a._by_tree.get(id(tree))
-        if entry is None:  # not a tree of this analysis (cannot happen; stay correct anyway)
-            return lower(tree, span)
+        # Every tree the lowerer is handed is an item's, from `_CachingParser.parse` (which
+        # records it), and every IR value can be shifted (tests/test_ide_incremental.py holds
+        # each node type to it).
+        entry = a._by_tree[id(tree)]
         hit = entry.next_lowered.get(span) or entry.lowered.get(span)
         if hit is not None:
             a._stats.reused_lowerings += 1
@@ -184,11 +185,8 @@ class _CachingLowerer(_lower.Lowerer):
             length = span.end - span.start
             for old_span, old in entry.lowered.items():
                 if old_span.end - old_span.start == length:
-                    try:
-                        delta = span.start - old_span.start
-                        hit = (shift(old[0], delta), shift(old[1], delta))
-                    except TypeError:
-                        break
+                    delta = span.start - old_span.start
+                    hit = (shift(old[0], delta), shift(old[1], delta))
                     a._stats.shifted_lowerings += 1
                     break
         if hit is None:
