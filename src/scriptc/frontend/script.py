@@ -39,6 +39,8 @@ _ESCAPE = re.compile(r"\\(.)", re.DOTALL)
 _TRUE_EVAL = re.compile(r"\{\s*TRUE\s*\}")
 
 
+# Rule and terminal names without the namespace (`_kind`): where a node is known to be a tree,
+# `_KINDS.get(tree.data) or _kind(tree)` saves a call (a large script has 100,000 trees).
 _KINDS: dict[str, str] = {}
 
 
@@ -80,6 +82,8 @@ class _Unseen(Enum):
 
 
 _UNSEEN: Final = _Unseen.UNSEEN
+# The tracks of an instruction block, in the order they are written.
+_TRACK_ORDER = list(TRACKS)
 
 # The parentheses of a condition, strings and comments skipped (either may hold one).
 _PARENS = re.compile(f"{STRING_PATTERN}|{COMMENT_PATTERN}|[()]")
@@ -367,7 +371,7 @@ class Lowerer:
         children: list[Child] = tree.children  # the label (a NAME token or None), the body
         label_t, body = children
         label = self.name(label_t) if label_t is not None else None
-        kind = _kind(body)
+        kind = _KINDS.get(body.data) or _kind(body)
         if kind == "inst_body":
             return self.instruction(label, body, span)
         if kind == "jump_body":
@@ -394,18 +398,15 @@ class Lowerer:
         moves: list[ir.MoveCommand] = []
         leds: list[ir.LedCommand] = []
         audios: list[ir.AudioCommand] = []
-        seen: list[tuple[str, Span]] = []
-        base, text_base = self.base, self.text_base
+        names: list[str] = []
         track_trees: list[Child] = body.children  # the tracks' trees
         for track in track_trees:
             children: list[Child] = track.children  # MV, LD or AO, then strings or None
-            name_t = children[0]
-            track_name = name_t.value
-            last = name_t
+            track_name = children[0].value
+            names.append(track_name)
             for token in children[1:]:
                 if token is None:
                     continue
-                last = token
                 # (the command of a track is the track's kind: MV a move, LD a led, AO audio)
                 command = self.command(track_name, token)
                 if isinstance(command, ir.MoveCommand):
@@ -414,17 +415,28 @@ class Lowerer:
                     leds.append(command)
                 elif command is not None:
                     audios.append(command)
+        if names != _TRACK_ORDER:
+            self._check_tracks(self._track_spans(track_trees), span)
+        return ir.InstructionBlock(label, tuple(moves), tuple(leds), tuple(audios), span)
+
+    def _track_spans(self, track_trees: list[Child]) -> list[tuple[str, Span]]:
+        """Each track's name and span, from its name to its closing parenthesis."""
+        base, text_base = self.base, self.text_base
+        seen: list[tuple[str, Span]] = []
+        for track in track_trees:
+            children: list[Child] = track.children  # MV, LD or AO, then strings or None
+            name_t = children[0]
+            last = next((t for t in reversed(children) if t is not None), name_t)
             last_end = base + last.end_pos
             close = self.text.find(")", last_end - text_base)
             end = text_base + close + 1 if close != -1 else last_end
-            seen.append((track_name, _span(Span, (base + name_t.start_pos, end))))
-        self._check_tracks(seen, body, span)
-        return ir.InstructionBlock(label, tuple(moves), tuple(leds), tuple(audios), span)
+            seen.append((name_t.value, Span(base + name_t.start_pos, end)))
+        return seen
 
-    def _check_tracks(self, seen: list[tuple[str, Span]], body: ParseTree, span: Span) -> None:
+    def _check_tracks(self, seen: list[tuple[str, Span]], span: Span) -> None:
+        """S008 for tracks out of order, twice or missing (`seen`: each track's name and
+        span, in the order written)."""
         names = [n for n, _ in seen]
-        if names == list(TRACKS):
-            return
         for i, (n, s) in enumerate(seen):
             if n in names[:i]:
                 self.diagnostics.append(
@@ -477,7 +489,7 @@ class Lowerer:
         if well_formed is not None:
             # The common case: every field there and a number (the path of an audio command,
             # text); what follows reads the same fields the same way.
-            whole = Span(start - 1, self.base + last)
+            whole = _span(Span, (start - 1, self.base + last))
             numbers = [ir.Number(text, _span(Span, (start + a, start + b)))
                        for text, a, b in well_formed]
             if track != "AO":
@@ -543,7 +555,7 @@ class Lowerer:
                 if depth == 0:
                     inner = self.text[at : m.start()]
                     lead = len(inner) - len(inner.lstrip())
-                    return Span(tb + at + lead, tb + at + len(inner.rstrip()))
+                    return _span(Span, (tb + at + lead, tb + at + len(inner.rstrip())))
         return item
 
     def _enclose(self, span: Span, open_: str, close: str) -> Span:
@@ -552,23 +564,23 @@ class Lowerer:
         tb = self.text_base
         start = self.text.rfind(open_, 0, span.start - tb)
         end = self.text.find(close, span.end - tb)
-        return Span(tb + start if start != -1 else span.start,
-                    tb + end + 1 if end != -1 else span.end)
+        return _span(Span, (tb + start if start != -1 else span.start,
+                            tb + end + 1 if end != -1 else span.end))
 
     def condition(self, tree: ParseTree, span: Span) -> ir.Condition:
-        kind = _kind(tree)
+        kind = _KINDS.get(tree.data) or _kind(tree)
         if kind == "true_condition":
             return ir.Condition((), (), span, bare_true=True)
         assignments: list[ir.Assignment] = []
         evaluations: list[ir.Evaluation] = []
         parts: list[Child] = tree.children  # the assignments' and evaluations' trees
         for child in parts:
-            k = _kind(child)
+            k = _KINDS.get(child.data) or _kind(child)
             children: list[Child] = child.children  # by the rule `k`, below
             if k == "class_assignment":
                 class_t, scope_t, alias_t, *tests = children
                 class_name = self.name(class_t, strip=1)
-                lowered = tuple(self.test(t) for t in tests if t is not None)
+                lowered = tuple([self.test(t) for t in tests if t is not None])
                 end = lowered[-1].span.end if lowered else self.span(alias_t).end
                 assignments.append(
                     ir.ClassAssignment(
@@ -576,7 +588,7 @@ class Lowerer:
                         scope=self.name(scope_t),
                         alias=self.alias(alias_t),
                         tests=lowered,
-                        span=self._enclose(Span(class_name.span.start, end), "{", "}"),
+                        span=self._enclose(_span(Span, (class_name.span.start, end)), "{", "}"),
                     )
                 )
             elif k == "var_assignment":
@@ -588,7 +600,8 @@ class Lowerer:
                         var=var,
                         scope=self.name(scope_t),
                         call=call,
-                        span=self._enclose(Span(var.span.start, call.span.end), "{", "}"),
+                        span=self._enclose(_span(Span, (var.span.start, call.span.end)),
+                                           "{", "}"),
                     )
                 )
             elif k == "att_assignment":
@@ -601,7 +614,8 @@ class Lowerer:
                         att=self.name(att_t),
                         scope=self.name(scope_t),
                         call=call,
-                        span=self._enclose(Span(alias.span.start, call.span.end), "{", "}"),
+                        span=self._enclose(_span(Span, (alias.span.start, call.span.end)),
+                                           "{", "}"),
                     )
                 )
             elif k == "e_evaluation":
@@ -621,26 +635,27 @@ class Lowerer:
         return Span(tb + m.start(), tb + m.end()) if m else within
 
     def test(self, node: ParseTree) -> ir.Test:
-        k = _kind(node)
+        k = _KINDS.get(node.data) or _kind(node)
         children: list[Child] = node.children  # by the rule `k`
         if k == "field_test":
             this_t, _access, field_t, op_t, value = children
             lowered = self.value(value)
-            span = Span(self.base + this_t.start_pos, lowered.span.end)
+            span = _span(Span, (self.base + this_t.start_pos, lowered.span.end))
             return ir.FieldTest(self.name(field_t), self.name(op_t), lowered, span)
         call = self.call(children[0], "B")
         start = self.text.rfind("B", 0, call.span.start - self.text_base)
-        return ir.CallTest(call, Span(self.text_base + start if start != -1 else call.span.start,
-                                      call.span.end))
+        return ir.CallTest(call, _span(Span, (
+            self.text_base + start if start != -1 else call.span.start, call.span.end)))
 
     def call(self, node: ParseTree, kind: str) -> ir.Call:
         children: list[Child] = node.children  # the name, then values' trees or None
         name_t, *args = children
-        values = tuple(self.value(a) for a in args if a is not None)
+        # (a list first: `tuple` of a generator costs more, and conditions hold many calls)
+        values = tuple([self.value(a) for a in args if a is not None])
         name = self.name(name_t)
         last = values[-1].span.end if values else name.span.end
         end = self.text.find(")", last - self.text_base)
-        span = Span(name.span.start, self.text_base + end + 1 if end != -1 else last)
+        span = _span(Span, (name.span.start, self.text_base + end + 1 if end != -1 else last))
         return ir.Call(kind, name, values, span)
 
     def alias(self, token: Token) -> ir.AliasRef:
@@ -652,7 +667,7 @@ class Lowerer:
         return self.alias(token)
 
     def value(self, node: ParseTree) -> ir.Value:
-        k = _kind(node)
+        k = _KINDS.get(node.data) or _kind(node)
         children: list[Child] = node.children  # by the rule `k`
         if k == "number":
             t = children[0]
@@ -665,12 +680,12 @@ class Lowerer:
             alias_node, _access, field_t = children
             alias = self.alias_of(alias_node)
             field = self.name(field_t)
-            return ir.FieldRef(alias, field, Span(alias.span.start, field.span.end))
+            return ir.FieldRef(alias, field, _span(Span, (alias.span.start, field.span.end)))
         if k == "att_ref":
             alias_node, _access, att_t = children
             alias = self.alias_of(alias_node)
             att = self.name(att_t)
-            return ir.AttRef(alias, att, Span(alias.span.start, att.span.end))
+            return ir.AttRef(alias, att, _span(Span, (alias.span.start, att.span.end)))
         if k == "var_ref":
             t = children[0]
             return ir.VarRef(self.name(t), self.span(t))
