@@ -1,7 +1,8 @@
-"""The checks' table of instruction blocks read into numbers (`check.context.read_tracks`,
-`Context.tracks`): read once, inline for the common texts, it says what the general readers
-(`number`, `whole_ms`, the definition of a block's duration) say for any text, and the passes
-that take their fast path from it (ranges, safety) find what they find from the text."""
+"""The checks' shared tables (`check.context`). The instruction blocks read into numbers
+(`read_tracks`, `Context.tracks`): read once, inline for the common texts, it says what the
+general readers (`number`, `whole_ms`, the definition of a block's duration) say for any text,
+and the passes that take their fast path from it (ranges, safety) find what they find from the
+text. A table a pass builds for others (`Context.table`) is built once per script."""
 
 from __future__ import annotations
 
@@ -131,3 +132,21 @@ def test_the_values_pass_finds_from_the_table_what_it_finds_from_the_text(
     slow = Context(script, source)
     slow.tracks = [_slow(t) for t in fast.tracks]  # (`tracks` is computed once, then kept)
     assert check_values(fast) == check_values(slow)
+
+
+def test_a_table_is_built_once_per_script_by_its_builder() -> None:
+    script = Script(Name("s", _AT), (), (), (), _AT)
+    ctx, other = Context(script, SourceFile("s.script", "")), Context(script, SourceFile("t", ""))
+    built: list[Context] = []
+
+    def build(c: Context) -> list[Context]:
+        built.append(c)
+        return [c]
+
+    def nothing(c: Context) -> None:
+        built.append(c)
+
+    assert ctx.table(build) is ctx.table(build) == [ctx] and built == [ctx]
+    assert other.table(build) == [other] and built == [ctx, other]
+    assert ctx.table(nothing) is None and ctx.table(nothing) is None  # (None is a table too)
+    assert built == [ctx, other, ctx]

@@ -11,9 +11,10 @@ fixes that insert a line) and did-you-mean suggestions.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from functools import cached_property
+from typing import Any, TypeVar
 
 from scriptc.diagnostics.model import Fix, TextEdit
 from scriptc.ir.builtins import STANDARD, FunctionRegistry
@@ -31,6 +32,8 @@ from scriptc.numbers import whole_number
 from scriptc.robot.motion import Velocity
 from scriptc.robot.profile import DEFAULT_PROFILE, Profile
 from scriptc.source import SourceFile, SourceKind, Span
+
+_Table = TypeVar("_Table")
 
 
 @dataclass(frozen=True, slots=True)
@@ -157,6 +160,18 @@ class Context:
         # "script" or "json": fixes are text edits in script syntax, so JSON sources get none.
         self.is_script_syntax = kind == SourceKind.SCRIPT
         self.profile = profile if profile is not None else DEFAULT_PROFILE
+        self._tables: dict[Callable[[Context], Any], Any] = {}
+
+    def table(self, build: Callable[[Context], _Table]) -> _Table:
+        """`build(self)`, built once per script: a table that a pass builds and other passes
+        read too (the control flow's successors, `flow.successors`; the next blocks that take
+        time, `ramps.NextTimed`). One entry per builder."""
+        found: _Table
+        if build in self._tables:
+            found = self._tables[build]
+        else:
+            found = self._tables[build] = build(self)
+        return found
 
     @cached_property
     def addressed_blocks(self) -> list[tuple[tuple[int, int, int], Block]]:

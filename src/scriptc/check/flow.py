@@ -93,7 +93,7 @@ def check_flow(ctx: Context) -> list[Diagnostic]:
     blocks = ctx.blocks
     if not blocks:
         return out
-    succ, resolved = successors(ctx)
+    succ, resolved = ctx.table(successors)  # (built once: the safety pass reads it too)
     # With an unknown jump target (L003) nobody knows where that jump goes, so reachability
     # would blame blocks for the typo; F001 waits until the labels are right.
     if resolved:

@@ -142,17 +142,41 @@ def _at_rest(entry: Entry) -> bool:
     return entry.ramp is None and not any(entry.target) and not any(entry.command)
 
 
+class NextTimed:
+    """The blocks that take time (`Context.durations`) that control may go to next, through
+    the blocks that take none (`flow.next_timed`: at most `_EXIT_SEARCH` of them per search),
+    each with the last jump passed (-1: none): from the script's start (`search((0,))`) and
+    when each block ends (`after`, memoised). Built once per script (`ctx.table(NextTimed)`):
+    K002 and K003 follow the same control flow."""
+
+    def __init__(self, ctx: Context) -> None:
+        self.blocks = ctx.blocks
+        self.succ, self.resolved = ctx.table(successors)
+        self.timed = [duration != 0 for duration in ctx.durations]
+        self._after: dict[int, list[tuple[int, int]]] = {}
+
+    def search(self, starts: tuple[int, ...]) -> list[tuple[int, int]]:
+        """The blocks that take time reached from `starts` (`flow.next_timed`)."""
+        return next_timed(self.blocks, self.succ, self.timed, starts, _EXIT_SEARCH)
+
+    def after(self, i: int) -> list[tuple[int, int]]:
+        """Where control may go when block `i` ends: (next block that takes time, via)."""
+        found = self._after.get(i)
+        if found is None:
+            succ = self.succ[i]
+            # (when the one next block takes time, no search)
+            found = self._after[i] = ([(succ[0], -1)] if len(succ) == 1 and self.timed[succ[0]]
+                                      else self.search(succ))
+        return found
+
+
 def check_ramps(ctx: Context, profile: Profile, out: list[Diagnostic]) -> None:
     blocks = ctx.blocks
-    durations = ctx.durations
     reads = [None if t is None else _read(i, t, profile) for i, t in enumerate(ctx.tracks)]
     if not blocks or not any(r is not None and r.block.moves for r in reads):
         return  # nothing moves
     rates = rates_of(profile)
-    timed = [r is not None or duration != 0
-             for r, duration in zip(reads, durations, strict=True)]  # both per block
-    succ = successors(ctx)[0]
-    exits: dict[int, list[tuple[int, int]]] = {}
+    flow = ctx.table(NextTimed)
     runs: dict[tuple[int, EntryKey], BlockRun] = {}
     alike: dict[tuple[_MovesKey, EntryKey], BlockRun] = {}
     budget = _RUNS_BASE + _RUNS_PER_BLOCK * sum(r is not None for r in reads)
@@ -168,8 +192,7 @@ def check_ramps(ctx: Context, profile: Profile, out: list[Diagnostic]) -> None:
     # blamed block -> (error, its entry, the chain's first block)
     found: dict[int, tuple[_Error, EntryKey, int]] = {}
     start = (REST, (0.0, 0.0, 0.0), -1, _NO_BLAME)
-    todo: deque[_State] = deque(
-        (b, *start) for b, _ in next_timed(blocks, succ, timed, (0,), _EXIT_SEARCH))
+    todo: deque[_State] = deque((b, *start) for b, _ in flow.search((0,)))
     while todo:
         b, entry, error, first, blame = todo.popleft()
         key = (entry.key(), error, first, blame)
@@ -200,16 +223,15 @@ def check_ramps(ctx: Context, profile: Profile, out: list[Diagnostic]) -> None:
             size = round(_size(run.error), 9)
             if size > blame[2]:
                 blame = (b, entry.key(), size)
-        if b not in exits:
-            exits[b] = next_timed(blocks, succ, timed, succ[b], _EXIT_SEARCH)
-        if _at_rest(leaving) or not exits[b]:
+        exits = flow.after(b)
+        if _at_rest(leaving) or not exits:
             if _matters(total) and blame[0] >= 0:
                 worst = found.get(blame[0])
                 if worst is None or _size(total) > _size(worst[0]):
                     found[blame[0]] = (total, blame[1], first)
-            todo.extend((c, *start) for c, _ in exits[b])
+            todo.extend((c, *start) for c, _ in exits)
         else:
-            todo.extend((c, leaving, total, first, blame) for c, _ in exits[b])
+            todo.extend((c, leaving, total, first, blame) for c, _ in exits)
 
     for b, (error, entry_key, first) in sorted(found.items()):
         moves = reads[b]

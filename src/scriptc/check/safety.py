@@ -41,8 +41,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 
 from scriptc.check.context import Context, Tracks
-from scriptc.check.flow import next_timed, successors
-from scriptc.check.ramps import check_ramps
+from scriptc.check.ramps import NextTimed, check_ramps
 from scriptc.diagnostics.codes import diagnostic
 from scriptc.diagnostics.model import Diagnostic, Label
 from scriptc.gcpause import gc_paused
@@ -51,11 +50,10 @@ from scriptc.robot.motion import Velocity
 from scriptc.robot.profile import Profile
 
 WINDOW_MS = 1000
-# Bounds of the K002 timeline: blocks that take no time visited per search for the next
-# instruction block; blocks without a flash visited per search for the next flash, and a
+# Bounds of the K002 timeline (those of the search for the next instruction block are
+# `ramps.NextTimed`'s): blocks without a flash visited per search for the next flash, and a
 # budget of such work per script (a base plus so much per block) past which searches stop
 # at `_REACH_SPENT` blocks.
-_EXIT_SEARCH = 256
 _REACH = 512
 _REACH_SPENT = 16
 _WORK_BASE = 50_000
@@ -173,7 +171,7 @@ class _Timeline:
 
     Time passes only in instruction blocks; every other block (and an instruction block that
     takes no time) passes control on in the same millisecond, so the next blocks that take time
-    are found through them (`exits`: at most `_EXIT_SEARCH` blocks per search; a cycle of them
+    are found through them (`exits`, `ramps.NextTimed`: a bounded search; a cycle of them
     just stops the search, F002 reports it). A window is too bright when some path has
     `k = floor(rate) + 1` flashes within one second of its first flash, so what is computed
     is the shortest time to the k-th flash: `first(c, k, lit)`, from the start of block `c`
@@ -191,11 +189,8 @@ class _Timeline:
     def __init__(self, ctx: Context, profile: Profile) -> None:
         self.ctx = ctx
         self.blocks = ctx.blocks
-        self._succ: tuple[list[tuple[int, ...]], bool] | None = None
         self.tracks = [None if t is None else _track(t) for t in ctx.tracks]
-        self.timed = [track is not None for track in self.tracks]
         self.limit = profile.max_led_flash_rate
-        self._exits: dict[int, list[tuple[int, int]]] = {}
         self._targets: dict[int, list[tuple[int, int, bool]]] = {}
         self._reached: dict[tuple[int, bool], list[tuple[int, int, bool]]] = {}
         self.work = 0  # blocks settled and targets merged by the searches
@@ -205,20 +200,17 @@ class _Timeline:
 
     # -- the graph of blocks that take time ------------------------------------------------
 
-    def _flow(self) -> tuple[list[tuple[int, ...]], bool]:
-        """`flow.successors`, computed when a second reaches past a block."""
-        if self._succ is None:
-            self._succ = successors(self.ctx)
-        return self._succ
-
     @property
-    def succ(self) -> list[tuple[int, ...]]:
-        return self._flow()[0]
+    def flow(self) -> NextTimed:
+        """The script's blocks that take time, along the control flow (a block that takes time
+        has a track), built when a second reaches past a block (`ctx.table`: K003 reads the
+        same)."""
+        return self.ctx.table(NextTimed)
 
     @property
     def resolved(self) -> bool:
         """Whether every jump target is a label of the script (L003)."""
-        return self._flow()[1]
+        return self.flow.resolved
 
     def _timed(self, i: int) -> _Track:
         """The track of block `i`, which takes time (reached by a search, or has a flash)."""
@@ -226,29 +218,16 @@ class _Timeline:
         assert track is not None, i
         return track
 
-    def _search(self, starts: tuple[int, ...]) -> list[tuple[int, int]]:
-        """The blocks that take time reached from `starts` through blocks that take none,
-        each with the last jump passed (-1: none)."""
-        return next_timed(self.blocks, self.succ, self.timed, starts, _EXIT_SEARCH)
-
     def exits(self, i: int) -> list[tuple[int, int]]:
         """Where control may go when block `i` ends: (next block that takes time, via)."""
-        found = self._exits.get(i)
-        if found is None:
-            succ = self.succ[i]
-            if len(succ) == 1 and self.tracks[succ[0]] is not None:
-                found = [(succ[0], -1)]  # the next block takes time: no search
-            else:
-                found = self._search(succ)
-            self._exits[i] = found
-        return found
+        return self.flow.after(i)
 
     def entered_lit_only(self, i: int) -> bool:
         """Whether every way into block `i` comes from a block lit to its very end: its first
         command lighting at once is then no flash. Unknown targets (L003) or no way in at
         all count as entering dark."""
         if self._entered is None:
-            dark = {v for v, _ in self._search((0,))} if self.blocks else set()
+            dark = {v for v, _ in self.flow.search((0,))} if self.blocks else set()
             lit: set[int] = set()
             for j, track in enumerate(self.tracks):
                 if track is not None:
