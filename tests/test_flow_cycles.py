@@ -242,10 +242,10 @@ def test_next_timed_finds_each_timed_block_reached_once_with_its_last_jump(block
     is_jump = [isinstance(b, JumpBlock) for b in ctx.blocks]
     plain = spread(succ, starts, lambda v: not timed[v] and not is_jump[v])
     for v, via in found:
-        if via < 0:
+        if via == -1:
             assert v in plain  # no jump on the way
         else:
-            assert is_jump[via] and not timed[via] and via in reached
+            assert via >= 0 and is_jump[via] and not timed[via] and via in reached
             assert v in spread(succ, succ[via], lambda u: not timed[u] and not is_jump[u])
     # A limit stops the same search earlier: what it found is the start of the whole answer.
     for limit in range(n + 1):
