@@ -223,6 +223,147 @@ def test_map_updates_are_checked_against_the_tables() -> None:
     assert parse_update("RobotStatus/teo", "batterytimeleft", "R", "120").value == 120
 
 
+# Every refusal of a MapUpdate (tables 4.1 and 4.2), as its sender gets it: the message, the
+# update's field it is about, and the jsonmsg's key (None: the message is about the whole
+# jsonmsg), with `!` before the key when the key itself is wrong, not its value.
+REFUSED_UPDATES = [
+    (("Script/x", "submove", "R", "1"), "`Script` takes no id, found `Script/x`",
+     "objectid", None),
+    (("Humna/k", "poses", "R", "{}"),
+     "unknown class `Humna` in objectid `Humna/k` (did you mean `Human`?)", "objectid", None),
+    (("Dog/rex", "poses", "R", "{}"),
+     ("unknown class `Dog` in objectid `Dog/rex` (one of `Camera`, `Sonar`, `Human`, "
+     "`Obstacle`, `Object`, `RobotStatus`, `Script`)"), "objectid", None),
+    (("Human", "poses", "R", "{}"), "objectid `Human` must be `Human/ID`", "objectid", None),
+    (("Human/", "poses", "R", "{}"), "objectid `Human/` must be `Human/ID`", "objectid", None),
+    (("Human/a/b", "poses", "R", "{}"), "objectid `Human/a/b`: an id cannot contain `/`",
+     "objectid", None),
+    (("Human/k", "pose", "R", "{}"), "`Human` has no attribute `pose` (did you mean `poses`?)",
+     "attributename", None),
+    (("Human/k", "mood", "R", "x"), ("`Human` has no attribute `mood` (one of `poses`, "
+     "`tracking`)"), "attributename", None),
+    (("Human/k", "poses", "X", "{}"), "policy must be `R` or `A`, found `X`", "policy", None),
+    (("Camera/c", "fps", "A", "1"), "`Camera` `fps` takes policy `R` only, found `A`",
+     "policy", None),
+    (("Human/k", "poses", "R", "[1]"), ("jsonmsg of `poses` must be an object with "
+     "`positionrho`, `positiontheta`, `positionchangetime`"), "jsonmsg", None),
+    (("Human/k", "poses", "R", "{positionrho: 1}"),
+     "jsonmsg of `poses` is not JSON: expected a key in double quotes, found `positionrho`",
+     "jsonmsg", None),
+    (("Human/k", "poses", "R", '{"positionrh": 1}'), ("jsonmsg of `poses` has an unknown key "
+     "`positionrh` (did you mean `positionrho`?)"), "jsonmsg", "!positionrh"),
+    (("Human/k", "poses", "R", {"rho": 1}), ("jsonmsg of `poses` has an unknown key `rho` "
+     "(one of `positionrho`, `positiontheta`, `positionchangetime`)"), "jsonmsg", "!rho"),
+    (("Human/k", "poses", "R", {"positionrho": True}),
+     "`positionrho` in the jsonmsg of `poses` must be a number, found true", "jsonmsg",
+     "positionrho"),
+    (("Human/k", "poses", "R", {"positionrho": "near"}),
+     '`positionrho` in the jsonmsg of `poses` must be a number, found "near"', "jsonmsg",
+     "positionrho"),
+    (("Human/k", "poses", "R", {"positionrho": math.inf}),
+     "`positionrho` in the jsonmsg of `poses` must be a finite number, found inf", "jsonmsg",
+     "positionrho"),
+    (("Human/k", "tracking", "R", {"appearanceon": 1.5}),
+     "`appearanceon` in the jsonmsg of `tracking` must be a whole number, found 1.5",
+     "jsonmsg", "appearanceon"),
+    (("Human/k", "tracking", "R", {"appearanceon": True}),
+     "`appearanceon` in the jsonmsg of `tracking` must be a whole number, found true",
+     "jsonmsg", "appearanceon"),
+    (("Human/k", "tracking", "R", {"appearanceon": "1e3"}),
+     '`appearanceon` in the jsonmsg of `tracking` must be a whole number, found "1e3"',
+     "jsonmsg", "appearanceon"),
+    (("Human/k", "tracking", "R", {"appearanceon": "9" * 400}),
+     ("`appearanceon` in the jsonmsg of `tracking` must be a whole number within a double's "
+     f'range, found "{"9" * 400}"'), "jsonmsg", "appearanceon"),
+    (("Human/k", "tracking", "R", {"appearanceon": math.inf}),
+     "`appearanceon` in the jsonmsg of `tracking` must be a whole number, found inf",
+     "jsonmsg", "appearanceon"),
+    (("Object/o", "category", "R", 5), "jsonmsg of `category` must be a string, found 5",
+     "jsonmsg", None),
+    (("Obstacle/o", "isfixed", "R", "yes"),
+     'jsonmsg of `isfixed` must be "s_true" or "s_false", found "yes"', "jsonmsg", None),
+    (("RobotStatus", "touch", "R", {"touchtype": "ab"}),
+     '`touchtype` in the jsonmsg of `touch` must be one character, found "ab"', "jsonmsg",
+     "touchtype"),
+    (("RobotStatus", "touch", "R", {"touchtype": 7}),
+     "`touchtype` in the jsonmsg of `touch` must be one character, found 7", "jsonmsg",
+     "touchtype"),
+    (("Script", "script_vect", "R", {"update": ["a", 1]}),
+     '`update` in the jsonmsg of `script_vect` must be a list of strings, found ["a", 1]',
+     "jsonmsg", "update"),
+    (("Script", "script_vect", "R", {"update": "a"}),
+     '`update` in the jsonmsg of `script_vect` must be a list of strings, found "a"',
+     "jsonmsg", "update"),
+    (("Script", "script_vect", "R", {"restart": "s_true"}),
+     "jsonmsg of `script_vect` needs an `update` list", "jsonmsg", None),
+    (("RobotStatus", "goalreached", "A", {"timestamp": 1}),
+     "jsonmsg of `goalreached` needs a `goalid`", "jsonmsg", None),
+    (("RobotStatus", "batterytimeleft", "R", "x"),
+     'jsonmsg of `batterytimeleft` must be a whole number, found "x"', "jsonmsg", None),
+    (("RobotStatus", "batterytimeleft", "R", 10**400),
+     ("jsonmsg of `batterytimeleft` must be a whole number, found a number beyond a double's "
+     "range"), "jsonmsg", None),
+    (("RobotStatus", "batterytimeleft", "R", object()),
+     "jsonmsg of `batterytimeleft` must be a whole number, found 'object'", "jsonmsg", None),
+]
+
+
+@pytest.mark.parametrize("update, message, field, key", REFUSED_UPDATES,
+                         ids=[m[:60] for _u, m, _f, _k in REFUSED_UPDATES])
+def test_every_refusal_of_a_map_update(update, message: str, field: str, key) -> None:
+    with pytest.raises(UpdateError) as info:
+        parse_update(*update)
+    error = info.value
+    assert str(error) == message
+    assert error.field == field
+    assert (error.key, error.unknown_key) == ((key.lstrip("!"), key[0] == "!") if key
+                                             else (None, False))
+
+
+def test_a_map_update_points_into_its_jsonmsg_text() -> None:
+    """A jsonmsg given as text: the span of the wrong key, or of the wrong value, in it."""
+    text = '{"positiontheta": 0, "positionrh": 1}'
+    with pytest.raises(UpdateError) as info:
+        parse_update("Human/k", "poses", "R", text)
+    assert text[info.value.span.start:info.value.span.end] == '"positionrh"'
+    text = '{"positionrho": "far"}'
+    with pytest.raises(UpdateError) as info:
+        parse_update("Human/k", "poses", "R", text)
+    assert text[info.value.span.start:info.value.span.end] == '"far"'
+    with pytest.raises(UpdateError) as info:
+        parse_update("Human/k", "poses", "R", '{"positionrho": 1,')
+    assert info.value.span == (18, 18) and "the file ends inside an object" in str(info.value)
+    with pytest.raises(UpdateError) as info:
+        parse_update("Human/k", "poses", "R", {"positionrho": "far"})  # no text to point into
+    assert info.value.span is None
+
+
+@pytest.mark.parametrize("update, value", [
+    (("Human/k", "tracking", "R", {"appearanceon": 2.0}), {"appearanceon": 2}),
+    (("Human/k", "tracking", "R", {"appearanceon": " 12 "}), {"appearanceon": 12}),
+    (("Human/k", "tracking", "A", '{"appearanceon": -3}'), {"appearanceon": -3}),
+    (("Human/k", "poses", "R", {"positionrho": 1}), {"positionrho": 1.0}),
+    (("Camera/c", "isonline", "R", True), "s_true"),
+    (("Camera/c", "isonline", "R", False), "s_false"),
+    (("Camera/c", "isonline", "R", "s_false"), "s_false"),
+    (("RobotStatus", "audioin", "A", {"words": ["hi", {"n": 1}]}), {"words": ["hi", {"n": 1}]}),
+    (("RobotStatus/teo", "touch", "A", {"touchtype": "h", "duration": 5}),
+     {"touchtype": "h", "duration": 5}),
+    (("Script", "script_vect", "R", {"update": ["a", "b"], "restart": True}),
+     {"update": ["a", "b"], "restart": "s_true"}),
+    (("RobotStatus", "batterytimeleft", "R", "120"), 120),
+])
+def test_map_updates_take_their_values_in_the_tables_types(update, value) -> None:
+    got = parse_update(*update)
+    assert got.value == value and type(got.value) is type(value)
+    if isinstance(value, dict):
+        assert all(type(got.value[k]) is type(v) for k, v in value.items())
+    cls, _sep, ident = update[0].partition("/")
+    assert (got.cls, got.id) == (cls, "" if cls in ("RobotStatus", "Script") else ident)
+    assert got.as_dict() == {"objectid": update[0], "attributename": update[1],
+                             "policy": update[2], "value": got.value}
+
+
 def test_r_drops_pending_updates_of_the_same_attribute_only() -> None:
     world = World()
     a1 = parse_update("Human/k", "poses", "A", {"positionrho": 3.0})

@@ -19,7 +19,7 @@ from scriptc.runtime.goals import Goals
 from scriptc.runtime.interp import IRProgram
 from scriptc.runtime.loading import LoadError
 from scriptc.runtime.rules import STANDARD_RULES, Rule, RuleContext, RuleHost
-from scriptc.runtime.scenario import OperatorEvent
+from scriptc.runtime.scenario import OperatorEvent, scenario_from_data
 from scriptc.runtime.scripts import Catalogue, LoadRecord
 from scriptc.runtime.session import Session
 from scriptc.runtime.status import NO_PROGRESS, RunStatus
@@ -624,6 +624,80 @@ def test_the_lifo_runs_in_order_then_idles_or_completes() -> None:
     session.scripts.stop_when_done = True
     scripts.next(0)
     assert session.status.done and session.status.outcome == "completed"
+
+
+# -- the actuators' effects on the map ------------------------------------------------------------
+
+TRACKS = """\
+[tracks]
+[goal:g]
+  [action]
+    [b##blk_inst: MV("0.1, 0, 0, 100, 200", "0, 0, 0.5, 0, 300") LD("1, 0.5, 0, 1, 50, 100")
+                  AO("song.wav, 0, 400")]
+    [b##blk_inst: MV("0.2, 0, 0, 0, 1000") LD("0, 0, 1, 1, 0, 1000") AO("song.wav, 0, 1000")]
+    [b##blk_terminus]
+"""
+
+
+def _ran_until(until: int, operator=()) -> Session:
+    scenario = scenario_from_data({"operator": list(operator)}) if operator else None
+    session = Session([program(TRACKS)], trace=Trace(), scenario=scenario)
+    session.run(until)
+    return session
+
+
+def test_the_actuators_write_each_commands_progress_and_history_to_the_map() -> None:
+    """After each command the map gets the number of commands done on its track
+    (`Script/submove`, `subled`, `subaout`) and a history record of what it did
+    (`RobotStatus/speed`, `led`, `audioout`), its latest value in the robot's fields."""
+    world = _ran_until(350).world
+    info, robot = world.script, world.robot
+    assert (info.submove, info.subled, info.subaout) == (1, 1, 0)
+    assert list(robot.history["speed"]) == [
+        {"xspeed": 0.1, "yspeed": 0.0, "thetaspeed": 0.0, "duration": 200, "startingtime": 100}]
+    assert list(robot.history["led"]) == [
+        {"r": 1.0, "g": 0.5, "b": 0.0, "frequency": 0, "duration": 100, "startingtime": 50}]
+    assert "audioout" not in robot.history
+    assert robot.fields["speed"] is robot.history["speed"][-1]
+    world = _ran_until(650).world
+    info, robot = world.script, world.robot
+    # The second block began at 600: its progress starts again from 0.
+    assert (info.submove, info.subled, info.subaout) == (0, 0, 0)
+    assert [r["duration"] for r in robot.history["speed"]] == [200, 300]
+    assert robot.history["speed"][1]["thetaspeed"] == 0.5
+    assert list(robot.history["audioout"]) == [
+        {"duration": 400, "startingtime": 0, "trackpath": "song.wav"}]
+
+
+def test_a_cancelled_command_is_in_the_history_with_the_time_it_ran_and_no_progress() -> None:
+    session = _ran_until(1000)
+    assert session.world.script.submove == 0
+    session.actuators.cancel(1000)
+    robot = session.world.robot
+    assert robot.history["speed"][-1] == {"xspeed": 0.2, "yspeed": 0.0, "thetaspeed": 0.0,
+                                          "duration": 400, "startingtime": 600}
+    assert robot.history["led"][-1]["duration"] == 400
+    assert robot.history["audioout"][-1]["duration"] == 400
+    assert session.world.script.submove == 0 and session.actuators.consumed
+    assert [e["track"] for e in session.trace.of_kind("cmd_stop") if e.get("cancelled")] == \
+        ["move", "led", "audioout"]
+
+
+def test_a_frozen_block_pauses_its_audio_and_resumes_where_it_stopped() -> None:
+    """The operator's interrupt at 200 ms (the safety lock held) freezes the block's clock
+    until 500 ms: the audio pauses (observed as none), and every command ends 300 ms later
+    than written."""
+    operator = [{"at": 0, "command": "safety_lock", "held": True},
+                {"at": 200, "command": "interrupt"}, {"at": 500, "command": "interrupt"}]
+    scenario = scenario_from_data({"operator": operator})
+    session = Session([program(TRACKS)], trace=Trace(), scenario=scenario)
+    seen = {o.t: o for o in session.run(2500, observe=(150, 250, 550)).observations}
+    assert (seen[150].audio, seen[250].audio, seen[550].audio) == ("song.wav", None, "song.wav")
+    robot = session.world.robot
+    assert [(r["startingtime"], r["duration"]) for r in robot.history["speed"]][:2] == \
+        [(100, 200 + 300), (600, 300)]
+    assert robot.history["audioout"][0] == {"duration": 700, "startingtime": 0,
+                                            "trackpath": "song.wav"}
 
 
 # -- the run's status ---------------------------------------------------------------------------
