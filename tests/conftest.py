@@ -4,6 +4,7 @@ files generated from the code, `python -m scriptc.generate`), and the tiers (the
 pyproject.toml: `lsp`, `editor`, `packaging` and `browser` tests are `slow` too, so
 `pytest -m "not slow"` leaves every tier out)."""
 
+import signal
 import sys
 from pathlib import Path
 
@@ -25,6 +26,13 @@ def pytest_addoption(parser: pytest.Parser) -> None:
 
 
 def pytest_configure(config: pytest.Config) -> None:
+    # A suite started in the background by a non-interactive shell (`cmd &`, as some CI
+    # runners and scripts do) inherits SIGINT ignored, and so would every `scriptc` it starts:
+    # the tests of Ctrl-C (in process and in subprocesses) would then see nothing. Python's own
+    # handler is what a terminal gives; a handler, unlike an ignored signal, is not inherited
+    # across exec, so the subprocesses start with Ctrl-C as a user's shell gives it too.
+    if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
     if config.getoption("--bless"):
         import harness
 
