@@ -128,6 +128,7 @@ class Mutant:
     end_line: int
     what: str           # a short description ("`<` to `<=`")
     source: str         # the whole mutated module
+    statement: int = 0  # the first line of the innermost statement holding the node
 
 
 def _docstring_nodes(tree: ast.AST) -> set[int]:
@@ -253,8 +254,10 @@ def mutants(text: str, path: str) -> list[Mutant]:
     by `ast.unparse` (comments are lost; the meaning is the original's but for the one
     change)."""
     found = []
-    sites = _sites(ast.parse(text))
-    for index, (_node, kind, detail) in enumerate(sites):
+    original = ast.parse(text)
+    sites = _sites(original)
+    statements = _statement_lines(original)
+    for index, (site, kind, detail) in enumerate(sites):
         tree = ast.parse(text)  # a fresh tree: the sites of it are found in the same order
         node, kind2, detail2 = _sites(tree)[index]
         assert (kind2, detail2) == (kind, detail)
@@ -267,7 +270,22 @@ def mutants(text: str, path: str) -> list[Mutant]:
         except (SyntaxError, ValueError):
             continue
         found.append(Mutant(path, index, node.lineno, getattr(node, "end_lineno", node.lineno)
-                            or node.lineno, what, source))
+                            or node.lineno, what, source, statements.get(id(site), 0)))
+    return found
+
+
+def _statement_lines(tree: ast.AST) -> dict[int, int]:
+    """id(node) -> the first line of the innermost statement holding it. coverage.py counts a
+    statement written over several lines as run on its first line only, so the tests of a
+    node on a later line of it are those of that line."""
+    found: dict[int, int] = {}
+    todo: list[tuple[ast.AST, int]] = [(tree, 0)]
+    while todo:
+        node, line = todo.pop()
+        if isinstance(node, ast.stmt):
+            line = node.lineno
+        found[id(node)] = line
+        todo.extend((child, line) for child in ast.iter_child_nodes(node))
     return found
 
 
@@ -684,7 +702,7 @@ def main() -> None:
             # The closures run in this iteration (the pool is joined below): the loop's
             # variables are bound as defaults all the same.
             def tests_of(m: Mutant, covered: dict[int, set[str]] = covered) -> list[str]:
-                hit: set[str] = set()
+                hit: set[str] = set(covered.get(m.statement, ()))
                 for line in range(m.line, m.end_line + 1):
                     hit |= covered.get(line, set())
                 # Fastest first: most mutants are killed by the first test that fails.

@@ -4,6 +4,7 @@ an activity's own functions and rules, the executor interface, bad scenario file
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 from pathlib import Path
@@ -285,6 +286,9 @@ REFUSED_UPDATES = [
     (("RobotStatus", "touch", "R", {"touchtype": "ab"}),
      '`touchtype` in the jsonmsg of `touch` must be one character, found "ab"', "jsonmsg",
      "touchtype"),
+    (("RobotStatus", "touch", "R", {"touchtype": "éé"}),
+     '`touchtype` in the jsonmsg of `touch` must be one character, found "éé"', "jsonmsg",
+     "touchtype"),
     (("RobotStatus", "touch", "R", {"touchtype": 7}),
      "`touchtype` in the jsonmsg of `touch` must be one character, found 7", "jsonmsg",
      "touchtype"),
@@ -352,6 +356,9 @@ def test_a_map_update_points_into_its_jsonmsg_text() -> None:
     (("Script", "script_vect", "R", {"update": ["a", "b"], "restart": True}),
      {"update": ["a", "b"], "restart": "s_true"}),
     (("RobotStatus", "batterytimeleft", "R", "120"), 120),
+    (("Object/o", "category", "R", "ball"), "ball"),
+    (("RobotStatus", "goalfailed", "A", {"goalid": "g", "timestamp": 5}),
+     {"goalid": "g", "timestamp": 5}),
 ])
 def test_map_updates_take_their_values_in_the_tables_types(update, value) -> None:
     got = parse_update(*update)
@@ -362,6 +369,8 @@ def test_map_updates_take_their_values_in_the_tables_types(update, value) -> Non
     assert (got.cls, got.id) == (cls, "" if cls in ("RobotStatus", "Script") else ident)
     assert got.as_dict() == {"objectid": update[0], "attributename": update[1],
                              "policy": update[2], "value": got.value}
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        got.policy = "A"  # an update, once read, is what was sent
 
 
 def test_r_drops_pending_updates_of_the_same_attribute_only() -> None:

@@ -199,11 +199,6 @@ class Mutex:
                                 note="the map does not pass through the chain while locked")
             return
         actuators = self.actuators
-        if not chain.active:
-            self.holding = set()
-            if actuators.hold:
-                actuators.set_hold(now, False)
-            return
         effects = self.effects
         effects.held = False
         ctx, bindings = self.ctx, self.bindings
