@@ -7,6 +7,7 @@ it, and driven without a whole run."""
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -18,7 +19,16 @@ from scriptc.runtime.commands import RuleMessage
 from scriptc.runtime.goals import Goals
 from scriptc.runtime.interp import IRProgram
 from scriptc.runtime.loading import LoadError
-from scriptc.runtime.rules import STANDARD_RULES, Rule, RuleContext, RuleHost
+from scriptc.runtime.rules import (
+    STANDARD_RULES,
+    Override,
+    Rule,
+    RuleContext,
+    RuleError,
+    RuleHost,
+    parse_condition_text,
+    parse_params,
+)
 from scriptc.runtime.scenario import OperatorEvent, scenario_from_data
 from scriptc.runtime.scripts import Catalogue, LoadRecord
 from scriptc.runtime.session import Session
@@ -102,6 +112,55 @@ def test_a_rule_context_acts_only_through_its_host() -> None:
         ("update", "Human/kid", "poses", "R", {"positionrho": 1.0}, "helper"),
         ("note", 40, "helper", "hello", {"entity": "Human/kid"}),
     ]
+
+
+def test_the_standard_bodies_through_their_context() -> None:
+    """kick_starter writes the time since the script started; a rule shows its class, id and
+    rulecode; override's defaults; safety_stop's parameters are checked when it is made."""
+    host = Host()
+    ctx = _context(host, now=1000)
+    host.world.robot.fields["startingtime"] = 300
+    ctx.rule.on_true(ctx)
+    assert host.world.robot.fields["elapsedtime"] == 700
+    del host.world.robot.fields["startingtime"]
+    ctx.rule.on_true(ctx)
+    assert host.world.robot.fields["elapsedtime"] == 1000  # no start known: from 0
+    assert repr(ctx.rule) == "<KickStarter helper (0)>"
+    assert ctx.evaluation is None  # what the pass gave the context (here: nothing)
+    override = Override(message("A", rid="o", rulecode=2))
+    assert (override.script, override.goal, override.action, override.block) == ("", 0, 0, 0)
+    assert override.condition.is_constant_true and override.params == {}
+    for params, problem in [("distance=near", "`distance` must be a number, found `near`"),
+                            ("class=Dog", "`class` is Human, Obstacle or Object, not `Dog`")]:
+        with pytest.raises(RuleError) as info:
+            STANDARD_RULES.make(message("A", rulecode=1, intopic=params))
+        assert str(info.value) == f"safety_stop: {problem}"
+    guard = STANDARD_RULES.make(message("A", rulecode=1, intopic="class=Obstacle"))
+    assert (guard.cls, guard.distance) == ("Obstacle", 0.5)
+
+
+def test_rule_parameters_are_read_around_their_spaces() -> None:
+    assert parse_params(" distance = 0.6 ;  class = Object ; ") == {"distance": "0.6",
+                                                                    "class": "Object"}
+    assert parse_params("when = {TRUE} ") == {"when": "{TRUE}"}
+    assert parse_params("   ") == {}
+
+
+def test_a_rule_body_reads_its_conditions_evaluation() -> None:
+    seen = []
+    library = STANDARD_RULES.extended()
+    library.register_simple(
+        80, "near", "{CLASS #Human L ?kid (?THIS>&positionrho OP< 1.0)} ! {TRUE}",
+        on_true=lambda ctx: seen.append((ctx.evaluation.value, dict(ctx.evaluation.bindings))),
+        on_false=lambda ctx: seen.append((ctx.evaluation.value, {})))
+    session = started(trace=Trace(), rules=library)
+    session.mutex.hand_over(0, (RuleMessage("alfa", 80, "n", "", "", "A", "U"),), "alfa",
+                            "plain")
+    session.mutex.pass_chain(1)
+    session.world.post(parse_update("Human/kid", "poses", "R", {"positionrho": 0.5}))
+    session.updates.apply(2)
+    session.mutex.pass_chain(2)
+    assert seen == [(False, {}), (True, {"?kid": "Human/kid"})]
 
 
 def test_a_rule_context_changes_the_map_and_the_bindings() -> None:
@@ -303,6 +362,18 @@ def test_the_chain_is_skipped_while_locked_said_once_per_lock() -> None:
     assert [e["t"] for e in session.trace.of_kind("mutex") if "note" in e] == [1, 5]
 
 
+def _chained(*rules: tuple[int, str, type[Rule]]) -> Session:
+    """A started session whose alfa list added these rules (rulecode, id, class), in order."""
+    library = STANDARD_RULES.extended()
+    for rulecode, rid, cls in rules:
+        library.register(rulecode, rid, cls)
+    session = started(trace=Trace(), rules=library)
+    session.mutex.hand_over(0, tuple(
+        RuleMessage("alfa", rulecode, rid, "", "", "A", "U" if k == len(rules) - 1 else "M")
+        for k, (rulecode, rid, _cls) in enumerate(rules)), "alfa", "plain")
+    return session
+
+
 def test_the_chain_pass_runs_each_rule_in_turn_and_survives_a_body_that_raises() -> None:
     turns = []
 
@@ -321,12 +392,7 @@ def test_the_chain_pass_runs_each_rule_in_turn_and_survives_a_body_that_raises()
         def on_false(self, ctx):
             turns.append(("free", ctx.now))
 
-    library = STANDARD_RULES.extended()
-    library.register(70, "boom", Boom)
-    library.register(71, "holder", Holder)
-    session = started(trace=Trace(), rules=library)
-    session.mutex.hand_over(0, (RuleMessage("alfa", 70, "b", "", "", "A", "M"),
-                                RuleMessage("alfa", 71, "h", "", "", "A", "U")), "alfa", "plain")
+    session = _chained((70, "b", Boom), (71, "h", Holder))
     session.mutex.pass_chain(1)
     assert turns == [("boom", 1), ("free", 1)] and not session.actuators.hold
     error = session.trace.errors[-1]
@@ -341,6 +407,85 @@ def test_the_chain_pass_runs_each_rule_in_turn_and_survives_a_body_that_raises()
                                 RuleMessage("omega", 71, "h", "", "", "R", "M")), "omega", "plain")
     session.mutex.pass_chain(3)
     assert not session.actuators.hold  # an empty chain holds nothing
+
+
+def test_a_condition_that_cannot_be_evaluated_is_the_rules_problem_not_the_runs() -> None:
+    """A body may set its condition as IR (`self.condition`), past the checks a text gets
+    (`parse_condition_text`): one over a class the map does not hold is reported (`rule`)
+    and the chain goes on with the next rule."""
+    turns = []
+
+    class Stray(Rule):
+        def __init__(self, message, params=None):
+            super().__init__(message, params)
+            text = "{CLASS #Human U ?d (?THIS>&positionrho OP< 1)} ! {TRUE}"
+            condition = parse_condition_text(text)
+            (assignment,) = condition.assignments
+            dog = dataclasses.replace(assignment.class_name, text="#Dog")
+            self.condition = dataclasses.replace(
+                condition, assignments=(dataclasses.replace(assignment, class_name=dog),))
+
+    class After(Rule):
+        def on_true(self, ctx):
+            turns.append(ctx.now)
+
+    session = _chained((72, "s", Stray), (73, "a", After))
+    session.mutex.pass_chain(1)
+    assert turns == [1]
+    error = session.trace.errors[-1]
+    assert (error["code"], error["message"], error["fatal"]) == (
+        "rule", "rule `s` (rulecode 72) raised EvaluationError: the map has no class `Dog`",
+        False)
+
+
+def test_an_unchecked_program_over_a_class_the_map_lacks_stops_with_a_read_error() -> None:
+    """Lint (R001) and codegen refuse it; run anyway, both executors stop the run with the
+    same fault, never an exception."""
+    from scriptc import bytecode
+    from scriptc.emit.codegen import codegen
+    from scriptc.runtime.vm import program_from_bytecode
+
+    text = ("[t]\n[goal:g]\n[action]\n[b##blk_jump: CND({CLASS #Dog U ?k "
+            "(?THIS>&positionrho OP< 1)} ! {TRUE}) TRJMP() FLSJMP()]\n[b##blk_terminus]\n")
+    analysis = analyze_bytes("dog.script", text.encode(), "script")
+    assert [d.code for d in analysis.diagnostics] == ["R001"]
+    session = Session([IRProgram(analysis.script, "dog.script")], trace=Trace())
+    assert session.run(100).outcome == "error"
+    assert session.trace.errors == [{"t": 0, "event": "error", "code": "read", "fatal": True,
+                                     "message": "the map has no class `Dog`"}]
+    human = analyze_bytes("human.script", text.replace("#Dog", "#Human").encode(), "script")
+    program = codegen(human.script, human.source)
+    dog = dataclasses.replace(program, constants=tuple(
+        "Dog" if c == "Human" else c for c in program.constants))
+    session = Session([program_from_bytecode(bytecode.verify(dog), "dog.scb")], trace=Trace())
+    assert session.run(100).outcome == "error"
+    (error,) = session.trace.errors
+    assert error["code"] == "read" and error["message"].startswith("goal0/act0/blk0 (line 4")
+    assert error["message"].endswith("the map has no class `Dog`")
+
+
+def test_a_rules_condition_is_checked_when_the_rule_is_made() -> None:
+    """What lint says of a script's condition, for a condition given as text (a `when=`
+    parameter, `register_simple`, `set_condition`): a syntax error, a class the map does not
+    hold, a scope the language does not know (tests/cases/runtime/rule_conditions.script)."""
+    for text, problem in [
+        ("{CLASS #Dog U ?d (?THIS>&positionrho OP< 1)} ! {TRUE}",
+         "unknown class `Dog` (the classes of the map are Human, Obstacle, Object, Activity)"),
+        ("{CLASS #Human Q ?d (?THIS>&positionrho OP< 1)} ! {TRUE}",
+         "unknown scope `Q` (the scopes are U, L, T)"),
+        ("{VAR @t X F: now()} ! {TRUE}", "unknown scope `X` (the scopes are U, L, T)"),
+        ('! {E: eq("a\\q", 1)}', "unknown escape `\\q` in a string"),
+    ]:
+        with pytest.raises(RuleError) as info:
+            parse_condition_text(text)
+        assert str(info.value) == f"condition `{text}`: {problem}"
+    with pytest.raises(RuleError, match="unknown class `Dog`"):
+        STANDARD_RULES.extended().register_simple(
+            99, "dog", "{CLASS #Dog U ?d (?THIS>&positionrho OP< 1)} ! {TRUE}")
+    for cls in ("Human", "Obstacle", "Object", "Activity"):
+        for scope in "ULT":
+            text = f"{{CLASS #{cls} {scope} ?d (?THIS>&positionrho OP< 1)}} ! {{TRUE}}"
+            assert parse_condition_text(text).assignments
 
 
 def test_a_rule_fires_when_its_condition_starts_to_hold_named_by_the_script_that_put_it() -> None:

@@ -53,6 +53,14 @@ if TYPE_CHECKING:
     from scriptc.runtime.goals import Goals
 
 
+class EvaluationError(RuntimeError):
+    """A condition this map cannot evaluate: a CLASS assignment over a class the map does not
+    hold. Only a program run although it was not checked has one (lint reports it as R001,
+    code generation refuses it, a rule's condition is refused when the rule is made); an
+    executor reading blocks stops the run with it (a `read` error), as with any fault of the
+    program."""
+
+
 @dataclass(slots=True)
 class Evaluation:
     """The value of one condition and the bindings it made or kept, as text
@@ -125,6 +133,8 @@ class EvalContext:
                 self.bind(alias, current, scope)
                 return True
             self.bindings.unbind(alias)
+        if cls not in self.world.classes:
+            raise EvaluationError(f"the map has no class `{cls}`")
         holder = self.bindings.holder
         candidates = self.world.candidates(cls)
         # Each candidate runs the tests (1,000 entities must cost well under a millisecond):

@@ -45,6 +45,8 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Protocol
 
 from scriptc.ir import nodes as ir
+from scriptc.ir.builtins import CLASSES
+from scriptc.language import SCOPES
 from scriptc.numbers import JSONValue, whole_number
 from scriptc.runtime.bindings import Bindings
 from scriptc.runtime.commands import BlockCommands, RuleMessage
@@ -59,7 +61,10 @@ class RuleError(ValueError):
 
 
 def parse_condition_text(text: str) -> ir.Condition:
-    """A rule-grammar condition from text; raises RuleError with the first problem."""
+    """A rule-grammar condition from text; raises RuleError with the first problem: a syntax
+    error, or what lint reports of a script's condition without the script around it, a class
+    the map does not hold (R001) or a scope the language does not know (R007). (A rule's
+    condition is not in any script lint reads: a `when=` parameter is text to it.)"""
     from scriptc.frontend.script import parse_condition
 
     condition, problems = parse_condition(text)
@@ -67,6 +72,16 @@ def parse_condition_text(text: str) -> ir.Condition:
     if condition is None or errors:
         message = errors[0].message if errors else "it does not parse"
         raise RuleError(f"condition `{text}`: {message}")
+    for assignment in condition.assignments:
+        scope = assignment.scope.text
+        if scope not in SCOPES:
+            raise RuleError(f"condition `{text}`: unknown scope `{scope}` (the scopes are "
+                            f"{', '.join(SCOPES)})")
+        if isinstance(assignment, ir.ClassAssignment):
+            cls = assignment.class_name.text.removeprefix("#")
+            if cls not in CLASSES:
+                raise RuleError(f"condition `{text}`: unknown class `{cls}` (the classes of "
+                                f"the map are {', '.join(CLASSES)})")
     return condition
 
 
@@ -94,7 +109,6 @@ class Rule:
     override `on_true` / `on_false`. `params` are the message's `key=value` parameters."""
 
     condition_text = "{TRUE}"
-    name = "rule"
 
     def __init__(self, message: RuleMessage, params: dict[str, str] | None = None) -> None:
         self.message = message
@@ -209,7 +223,7 @@ class RuleContext:
 
 
 class KickStarter(Rule):
-    name = "kick_starter"
+    """Rulecode 0: keeps `RobotStatus/elapsedtime` up to date on every pass."""
 
     def on_true(self, ctx: RuleContext) -> None:
         status = ctx.world.robot.fields
@@ -217,7 +231,8 @@ class KickStarter(Rule):
 
 
 class SafetyStop(Rule):
-    name = "safety_stop"
+    """Rulecode 1: holds the wheels still while an entity of `class` is closer than
+    `distance` metres."""
 
     def __init__(self, message: RuleMessage, params: dict[str, str] | None = None) -> None:
         super().__init__(message, params)
@@ -255,7 +270,7 @@ _PATH_RE = re.compile(r"goal(\d+)/act(\d+)/blk(\d+)")
 
 
 class Override(Rule):
-    name = "override"
+    """Rulecode 2: when `when` holds, switches once to `script` at `at` (or `goal`)."""
 
     def __init__(self, message: RuleMessage, params: dict[str, str] | None = None) -> None:
         params = params if params is not None else {}
@@ -309,8 +324,6 @@ class SimpleRule(Rule):
 
 class UnknownRule(Rule):
     """The body of a rulecode the library does not have: it does nothing (reported once)."""
-
-    name = "unknown"
 
 
 RuleFactory = Callable[[RuleMessage, dict[str, str]], Rule]

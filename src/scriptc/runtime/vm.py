@@ -491,10 +491,6 @@ class VMExecutor(ExecutorBase[VMProgram]):
         """The search the FIND step `at` of block i starts, as one `assign_class` call (its
         tests, run step by step, read with the same sink: they never reach an exit)."""
         _code, cls, alias, scope, _bind = step
-        if cls not in ctx.world.classes:
-            # Codegen writes only the classes of the map; a program that names another is
-            # at fault when it runs.
-            raise VMTrap(f"{self.program.where(i, at)}: FIND: the map has no class `{cls}`")
         checks = self.program.blocks[i].searches.get(at)
         if checks is None:
             start = at + 2  # after the NEXT_CANDIDATE
