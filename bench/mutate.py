@@ -187,7 +187,8 @@ def _sites(tree: ast.AST) -> list[tuple[ast.AST, str, object]]:
         if isinstance(node, ast.stmt) and not _skippable(node) \
                 and not isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
             if isinstance(node, ast.Return) and node.value is not None:
-                sites.append((node, "return", None))
+                if not (isinstance(node.value, ast.Constant) and node.value.value is None):
+                    sites.append((node, "return", None))  # (`return None` stays itself)
             elif not isinstance(node, ast.Return):
                 sites.append((node, "drop", None))
     return sites

@@ -23,6 +23,7 @@ from scriptc.runtime.rules import (
     STANDARD_RULES,
     Override,
     Rule,
+    RuleChain,
     RuleContext,
     RuleError,
     RuleHost,
@@ -278,6 +279,67 @@ def test_every_rule_action_in_every_state(action: str, state: str) -> None:
     if (action, state) in (("C", "removed"), ("B", "delayed")):
         # Put back, not made again: the same rule with its state.
         assert chain_now.active[0] is before[0]
+
+
+def test_an_unknown_rule_action_is_the_messages_problem() -> None:
+    """M005 rejects it in a checked script; run unchecked, the message fails (`rule`) and the
+    chain is as it was."""
+    with pytest.raises(RuleError, match=r"^unknown rule action `X`$"):
+        RuleChain().apply(message("X"), STANDARD_RULES)
+    session = _in_state("active")
+    event = _apply(session, "X")
+    assert (event["result"], event["chain"]) == ("failed", ["r"])
+    assert session.trace.errors[-1]["message"] == "`r` (rulecode 0): unknown rule action `X`"
+
+
+def test_the_rule_library_registers_by_rulecode_within_u32() -> None:
+    library = STANDARD_RULES.extended()
+    assert [(e.rulecode, e.name, e.origin) for e in library] == [
+        (0, "kick_starter", "standard"), (1, "safety_stop", "standard"),
+        (2, "override", "standard")]
+    for code in (0xFFFFFFFF, 0):
+        entry = library.register(code, "mine", Rule)
+        assert library.get(code) is entry and entry.origin == "user"
+    assert [e.rulecode for e in library][-1] == 0xFFFFFFFF  # in rulecode order
+    for code in (-1, 0x1_0000_0000):
+        with pytest.raises(ValueError, match=f"unsigned 32-bit integer, not {code}"):
+            library.register(code, "mine", Rule)
+    named = library.register_named("waving", Rule)
+    assert named.origin == "user" and library.get(77, "waving") is named
+    assert library.get(77) is None and library.get(77, "nobody") is None
+    simple = library.register_simple(5, "five", "{TRUE}")
+    assert library.get(5) is simple and simple.origin == "user"
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        simple.name = "other"  # an entry is what the library was given
+
+
+def test_a_rule_context_has_defaults_for_what_it_is_not_told() -> None:
+    host = Host()
+    ctx = _context(host)
+    ctx.override("other")
+    request = host.world.script.override
+    assert (request.script, request.goal, request.action, request.block) == ("other", 0, 0, 0)
+    host.world.apply(parse_update("Human/kid", "poses", "R", {"positionrho": 1.0}), 0)
+    host.bindings.bind("?kid", host.world.entity("Human", "kid"), "U", READER)
+    ctx.set_att("?kid", "mood", "calm")
+    assert host.bindings.atts["?kid", "mood"].scope == "U"
+
+
+@pytest.mark.parametrize("params, problem", [
+    ("1x=2", "parameters are `key=value` pairs separated by `;`, found `1x=2`"),
+    ("a b=2", "parameters are `key=value` pairs separated by `;`, found `a b=2`"),
+])
+def test_rule_parameters_need_a_name_before_each_equals_sign(params: str, problem: str) -> None:
+    with pytest.raises(RuleError) as info:
+        parse_params(params)
+    assert str(info.value) == problem
+
+
+def test_an_override_at_a_path_that_is_no_path_cannot_be_made() -> None:
+    with pytest.raises(RuleError, match="`at` is a path `goalG/actA/blkB`, found `goal1/blk2`"):
+        STANDARD_RULES.make(message("A", rulecode=2, intopic="at=goal1/blk2"))
+    rule = STANDARD_RULES.make(message("A", rulecode=2, intopic="at=goal1/act2/blk3; goal=x"))
+    assert (rule.goal, rule.action, rule.block) == (1, 2, 3)  # `at` wins over `goal`
 
 
 def test_a_rule_that_cannot_be_made_is_reported_and_fails() -> None:
