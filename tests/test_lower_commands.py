@@ -109,3 +109,24 @@ def test_the_condition_of_a_jump_ends_at_its_own_parenthesis(inside: str) -> Non
     assert diagnostics == []
     jump = script.goals[0].actions[0].blocks[0]
     assert jump.condition_text == condition
+
+
+def _closing_paren_by_regex(text: str, at: int, end: int) -> int:
+    """The `)` closing a parenthesis opened before `at`, by the regex of parentheses, strings
+    and comments (the general way `_closing_paren` takes when a string or comment is there)."""
+    depth = 1
+    for m in lower._PARENS.finditer(text, at, end):
+        depth += {"(": 1, ")": -1}.get(m.group(), 0)
+        if depth == 0:
+            return m.start()
+    return -1
+
+
+@FAST
+@given(st.text(st.sampled_from('()ab "%\\'), max_size=40), st.integers(0, 5), st.integers(0, 5))
+def test_the_closing_parenthesis_is_found_alike_with_or_without_strings(
+        text: str, at: int, cut: int) -> None:
+    """A jump's condition ends at the `)` closing `CND(`: counted at once where no string or
+    comment can hold a parenthesis, else by the regex; both find the same one."""
+    at, end = min(at, len(text)), max(min(at, len(text)), len(text) - cut)
+    assert lower._closing_paren(text, at, end) == _closing_paren_by_regex(text, at, end)

@@ -118,8 +118,9 @@ class _ConditionChecker(ConditionVisitor):
         for asg in condition.assignments:
             if isinstance(asg, ClassAssignment):
                 self.binding_here.setdefault(asg.alias.name.text, asg)
+        methods = self.methods  # (the visitor's dispatch without `visit`'s call: `ir/walk.py`)
         for node in (*condition.assignments, *condition.evaluations):
-            self.visit(node)
+            methods[type(node)](self, node)
 
     # -- assignments and evaluations ------------------------------------------------------
 
@@ -141,7 +142,7 @@ class _ConditionChecker(ConditionVisitor):
     def visit_field_test(self, test: FieldTest, asg: ClassAssignment, cls: str | None) -> None:
         if cls is not None:
             self.field(test.field, cls, None)
-        self.visit(test.value, asg, cls)
+        self.methods[type(test.value)](self, test.value, asg, cls)
 
     def visit_call_test(self, test: CallTest, asg: ClassAssignment, cls: str | None) -> None:
         self.call(test.call, (asg, cls))
@@ -150,7 +151,7 @@ class _ConditionChecker(ConditionVisitor):
         self.scope(asg.scope)
         cls = self.class_name(asg.class_name)
         for test in asg.tests:
-            self.visit(test, asg, cls)
+            self.methods[type(test)](self, test, asg, cls)
         alias = asg.alias
         if alias.is_this:
             self.this_outside(alias)
@@ -339,7 +340,7 @@ class _ConditionChecker(ConditionVisitor):
     def call(self, call: Call, test: tuple[ClassAssignment, str | None] | None) -> None:
         tests_of, this_class = test if test is not None else (None, None)
         for arg in call.args:
-            self.visit(arg, tests_of, this_class)
+            self.methods[type(arg)](self, arg, tests_of, this_class)
         registry = self.ctx.functions
         name = call.name.text
         function = registry.get(name)

@@ -177,8 +177,9 @@ def check_ramps(ctx: Context, profile: Profile, out: list[Diagnostic]) -> None:
         return  # nothing moves
     rates = rates_of(profile)
     flow = ctx.table(NextTimed)
-    runs: dict[tuple[int, EntryKey], BlockRun] = {}
-    alike: dict[tuple[_MovesKey, EntryKey], BlockRun] = {}
+    # a run, with its size (`_size`, rounded) and whether it leaves the robot at rest
+    runs: dict[tuple[int, EntryKey], tuple[BlockRun, float, bool]] = {}
+    alike: dict[tuple[_MovesKey, EntryKey], tuple[BlockRun, float, bool]] = {}
     budget = _RUNS_BASE + _RUNS_PER_BLOCK * sum(r is not None for r in reads)
 
     # A chain: blocks from the one the robot starts to move in (entered at rest) to the one it
@@ -195,7 +196,8 @@ def check_ramps(ctx: Context, profile: Profile, out: list[Diagnostic]) -> None:
     todo: deque[_State] = deque((b, *start) for b, _ in flow.search((0,)))
     while todo:
         b, entry, error, first, blame = todo.popleft()
-        key = (entry.key(), error, first, blame)
+        entry_key = entry.key()
+        key = (entry_key, error, first, blame)
         if key in seen[b] or len(seen[b]) >= MAX_ENTRIES:
             continue
         seen[b].add(key)
@@ -204,27 +206,28 @@ def check_ramps(ctx: Context, profile: Profile, out: list[Diagnostic]) -> None:
         moves = reads[b]
         if moves is None or (not moves.commands and entry is REST):
             # times not readable (V006): start again at rest; or nothing moves here
-            leaving, total = REST, error
+            leaving, total, rests = REST, error, True
         else:
-            run = runs.get((b, entry.key()))
-            if run is None:
+            ran = runs.get((b, entry_key))
+            if ran is None:
                 # blocks alike entered alike run alike (a script repeats its blocks)
-                same = (moves.key, entry.key())
-                run = alike.get(same)
-                if run is None:
+                same = (moves.key, entry_key)
+                ran = alike.get(same)
+                if ran is None:
                     if len(alike) >= budget:
                         break  # the script's work is spent: what is found is reported
-                    run = alike[same] = _run(entry, moves, rates)
-                runs[(b, entry.key())] = run
+                    run = _run(entry, moves, rates)
+                    ran = alike[same] = (run, round(_size(run.error), 9), _at_rest(run.exit))
+                runs[(b, entry_key)] = ran
+            run, size, rests = ran
             leaving = run.exit
             # rounded, so that a loop of blocks moving on at one speed comes back to a state
             total = (round(error[0] + run.error[0], 9), round(error[1] + run.error[1], 9),
                      round(error[2] + run.error[2], 9))
-            size = round(_size(run.error), 9)
             if size > blame[2]:
-                blame = (b, entry.key(), size)
+                blame = (b, entry_key, size)
         exits = flow.after(b)
-        if _at_rest(leaving) or not exits:
+        if rests or not exits:
             if _matters(total) and blame[0] >= 0:
                 worst = found.get(blame[0])
                 if worst is None or _size(total) > _size(worst[0]):
@@ -236,7 +239,7 @@ def check_ramps(ctx: Context, profile: Profile, out: list[Diagnostic]) -> None:
     for b, (error, entry_key, first) in sorted(found.items()):
         moves = reads[b]
         assert moves is not None  # a block is blamed for its run
-        out.append(_report(ctx, moves, runs[(b, entry_key)], error, first, rates, profile))
+        out.append(_report(ctx, moves, runs[(b, entry_key)][0], error, first, rates, profile))
 
 
 def _run(entry: Entry, moves: _Moves, rates: Velocity) -> BlockRun:
