@@ -6,10 +6,19 @@ text. A table a pass builds for others (`Context.table`) is built once per scrip
 
 from __future__ import annotations
 
+import random
+
 from hypothesis import example, given
 from hypothesis import strategies as st
 
-from scriptc.check.context import Context, Tracks, number, read_tracks, whole_ms
+from scriptc.check.context import (
+    CommandRead,
+    Context,
+    Tracks,
+    number,
+    read_tracks,
+    whole_ms,
+)
 from scriptc.check.ranges import MAX_TIME, check_values
 from scriptc.ir.nodes import (
     Action,
@@ -104,6 +113,33 @@ def test_a_block_s_tracks_are_read_as_each_number_reads(block: InstructionBlock)
                                                     for c in (led.r, led.g, led.b)),
              whole_ms(led.wait_t), whole_ms(led.duration)) for led in block.leds]
     assert repr(tracks.leds) == repr(leds)  # (a colour may hold a NaN, unequal to itself)
+
+
+def _one_field_apart() -> list[InstructionBlock]:
+    """A block, then a block for each field of each command with that field alone changed."""
+    move, led, audio = ["0", "0", "0", "0", "5"], ["1", "0", "0", "0", "0", "5"], ["0", "50"]
+    blocks = [_block([tuple(move)], [tuple(led)], [tuple(audio)])]
+    for fields, at in ((move, 0), (led, 1), (audio, 2)):
+        for i in range(len(fields)):
+            changed = [*fields[:i], "1" if fields[i] != "1" else "0", *fields[i + 1:]]
+            tracks = [[tuple(move)], [tuple(led)], [tuple(audio)]]
+            tracks[at] = [tuple(changed)]
+            blocks.append(_block(*tracks))
+    return blocks
+
+
+@given(st.lists(BLOCKS, min_size=1, max_size=4), st.randoms(use_true_random=False))
+@example(_one_field_apart(), random.Random(0))
+def test_commands_read_once_per_script_read_as_each_alone(blocks: list[InstructionBlock],
+                                                           rng: random.Random) -> None:
+    """`Context.tracks` reads each distinct command once (`read_tracks`' `seen`): blocks that
+    repeat commands, in any order, read as each block read on its own."""
+    blocks = blocks + [rng.choice(blocks) for _ in blocks]  # repeated commands
+    seen: dict[tuple[str, ...], CommandRead] = {}
+    shared = [read_tracks(block, seen) for block in blocks]
+    alone = [read_tracks(block) for block in blocks]
+    assert repr([(t.moves, t.leds, t.duration, t.plain) for t in shared]) == \
+        repr([(t.moves, t.leds, t.duration, t.plain) for t in alone])
 
 
 def _slow(tracks: Tracks | None) -> Tracks | None:

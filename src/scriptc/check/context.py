@@ -20,6 +20,7 @@ from scriptc.diagnostics.model import Fix, TextEdit
 from scriptc.ir.builtins import STANDARD, FunctionRegistry
 from scriptc.ir.nodes import (
     Block,
+    Command,
     InstructionBlock,
     JumpBlock,
     LedCommand,
@@ -89,60 +90,96 @@ class Tracks:
         self.duration, self.plain = duration, plain
 
 
-def read_tracks(block: InstructionBlock) -> Tracks:
-    """The block's tracks read (`Tracks`). A 1 MB script holds some 100,000 numbers: the
-    common texts (a few ASCII digits; a finite decimal) are read inline, the others by
-    `whole_ms`, `number` and `whole_number`."""
-    isfinite = math.isfinite
+# A command read (`read_command`): its MoveRead or LedRead (None for an audio command), the
+# sum of its `wait_t` and `duration` when both are written as whole numbers (else None), and
+# whether both are plain (a few ASCII digits: `Tracks.plain`).
+CommandRead = tuple[MoveRead | LedRead | None, int | None, bool]
+
+
+def read_command(command: Command) -> CommandRead:
+    """One command read into numbers (`CommandRead`): the common texts (a few ASCII digits; a
+    finite decimal) inline, the others by `whole_ms`, `number` and `whole_number`."""
+    w, d = command.wait_t.text, command.duration.text
+    wait: int | None
+    duration: int | None
+    exact: int | None
+    # (under 16 digits, float() is exact: `whole_ms` and `whole_number` agree)
+    plain = (w.isdigit() and d.isdigit() and len(w) < 16 and len(d) < 16 and w.isascii()
+             and d.isascii())
+    if plain:
+        wait, duration = int(w), int(d)
+        exact = wait + duration
+    else:
+        wait, duration = whole_ms(command.wait_t), whole_ms(command.duration)
+        whole = (whole_number(w), whole_number(d)) if (
+            command.wait_t.is_integer_text and command.duration.is_integer_text) else None
+        exact = None if whole is None or whole[0] is None or whole[1] is None \
+            else whole[0] + whole[1]
+    if isinstance(command, MoveCommand):
+        velocity: Velocity | None
+        try:
+            velocity = (float(command.v_x.text), float(command.v_y.text),
+                        float(command.v_theta.text))
+        except ValueError:
+            velocity = None
+        if velocity is not None and not (math.isfinite(velocity[0])
+                                         and math.isfinite(velocity[1])
+                                         and math.isfinite(velocity[2])):
+            velocity = None
+        return (velocity, wait, duration), exact, plain
+    if isinstance(command, LedCommand):
+        colour: tuple[float, float, float] | None
+        try:
+            colour = (float(command.r.text), float(command.g.text), float(command.b.text))
+        except ValueError:
+            colour = None
+        lights = command.turnas.text.strip() == "1" and (
+            any((number(c) or 0) > 0 for c in (command.r, command.g, command.b))
+            if colour is None else  # (finite and above 0: `number`)
+            0.0 < colour[0] < math.inf or 0.0 < colour[1] < math.inf
+            or 0.0 < colour[2] < math.inf)
+        return (colour, lights, wait, duration), exact, plain
+    return None, exact, plain
+
+
+def read_tracks(block: InstructionBlock,
+                seen: dict[tuple[str, ...], CommandRead] | None = None) -> Tracks:
+    """The block's tracks read (`Tracks`), each command by `read_command`. `seen` holds the
+    commands read so far, by the texts of their numbers: a script repeats its commands (a
+    still move, the LEDs off, the same times), and a 1 MB script holds some 100,000 numbers."""
+    if seen is None:
+        seen = {}
     moves: list[MoveRead] = []
     leds: list[LedRead] = []
     longest: int | None = 0
     plain = True
     for track in (block.moves, block.leds, block.audios):
-        total = 0
+        total: int | None = 0
         for command in track:
-            w, d = command.wait_t.text, command.duration.text
-            wait: int | None
-            duration: int | None
-            # (under 16 digits, float() is exact: `whole_ms` and `whole_number` agree)
-            if (w.isdigit() and d.isdigit() and len(w) < 16 and len(d) < 16 and w.isascii()
-                    and d.isascii()):
-                wait, duration = int(w), int(d)
-                total += wait + duration
-            else:
-                plain = False
-                wait, duration = whole_ms(command.wait_t), whole_ms(command.duration)
-                exact = (whole_number(w), whole_number(d)) if (
-                    command.wait_t.is_integer_text and command.duration.is_integer_text) else None
-                if exact is None or exact[0] is None or exact[1] is None:
-                    longest = None
-                else:
-                    total += exact[0] + exact[1]
             if isinstance(command, MoveCommand):
-                velocity: Velocity | None
-                try:
-                    velocity = (float(command.v_x.text), float(command.v_y.text),
-                                float(command.v_theta.text))
-                except ValueError:
-                    velocity = None
-                if velocity is not None and not (
-                        isfinite(velocity[0]) and isfinite(velocity[1]) and isfinite(velocity[2])):
-                    velocity = None
-                moves.append((velocity, wait, duration))
+                key: tuple[str, ...] = ("MV", command.v_x.text, command.v_y.text,
+                                        command.v_theta.text, command.wait_t.text,
+                                        command.duration.text)
             elif isinstance(command, LedCommand):
-                colour: tuple[float, float, float] | None
-                try:
-                    colour = (float(command.r.text), float(command.g.text),
-                              float(command.b.text))
-                except ValueError:
-                    colour = None
-                lights = command.turnas.text.strip() == "1" and (
-                    any((number(c) or 0) > 0 for c in (command.r, command.g, command.b))
-                    if colour is None else  # (finite and above 0: `number`)
-                    0.0 < colour[0] < math.inf or 0.0 < colour[1] < math.inf
-                    or 0.0 < colour[2] < math.inf)
-                leds.append((colour, lights, wait, duration))
-        if longest is not None and total > longest:
+                key = ("LD", command.r.text, command.g.text, command.b.text,
+                       command.turnas.text, command.wait_t.text, command.duration.text)
+            else:
+                key = ("AO", command.wait_t.text, command.duration.text)
+            found = seen.get(key)
+            if found is None:
+                found = seen[key] = read_command(command)
+            read, exact, plain_times = found
+            plain = plain and plain_times
+            total = None if total is None or exact is None else total + exact
+            if read is None:
+                continue  # an audio command: its times only
+            if len(read) == 3:  # (a move reads as three values, an LED command as four)
+                moves.append(read)
+            else:
+                leds.append(read)
+        if total is None:
+            longest = None
+        elif longest is not None and total > longest:
             longest = total
     return Tracks(block, moves, leds, longest, plain)
 
@@ -204,7 +241,8 @@ class Context:
         """Each block's tracks read into numbers, in execution order (`read_tracks`; None for
         a block that is not an instruction block). Read once: safety (K001, K002), its ramps
         (K003) and `durations` read them."""
-        return [read_tracks(b) if isinstance(b, InstructionBlock) else None
+        seen: dict[tuple[str, ...], CommandRead] = {}  # (bounded by the script)
+        return [read_tracks(b, seen) if isinstance(b, InstructionBlock) else None
                 for b in self.blocks]
 
     @cached_property
