@@ -145,9 +145,12 @@ def _docstring_nodes(tree: ast.AST) -> set[int]:
 
 
 def _skippable(node: ast.AST) -> bool:
-    """Statements whose removal says nothing: imports, `pass`, `...`, declarations of types,
-    the `__future__` import, `raise` of a not-implemented."""
+    """Statements whose removal says nothing: imports, `pass`, `...`, declarations of types
+    (annotations without a value, `if TYPE_CHECKING:` blocks), the `__future__` import."""
     if isinstance(node, (ast.Import, ast.ImportFrom, ast.Pass, ast.Global, ast.Nonlocal)):
+        return True
+    if isinstance(node, ast.If) and ast.unparse(node.test) in ("TYPE_CHECKING",
+                                                                "typing.TYPE_CHECKING"):
         return True
     if isinstance(node, ast.Expr) and isinstance(node.value, ast.Constant):
         return True

@@ -136,8 +136,9 @@ def test_the_standard_bodies_through_their_context() -> None:
         with pytest.raises(RuleError) as info:
             STANDARD_RULES.make(message("A", rulecode=1, intopic=params))
         assert str(info.value) == f"safety_stop: {problem}"
-    guard = STANDARD_RULES.make(message("A", rulecode=1, intopic="class=Obstacle"))
-    assert (guard.cls, guard.distance) == ("Obstacle", 0.5)
+    for cls in ("Human", "Obstacle", "Object"):
+        guard = STANDARD_RULES.make(message("A", rulecode=1, intopic=f"class={cls}"))
+        assert (guard.cls, guard.distance) == (cls, 0.5)
 
 
 def test_rule_parameters_are_read_around_their_spaces() -> None:
@@ -279,6 +280,14 @@ def test_every_rule_action_in_every_state(action: str, state: str) -> None:
     if (action, state) in (("C", "removed"), ("B", "delayed")):
         # Put back, not made again: the same rule with its state.
         assert chain_now.active[0] is before[0]
+
+
+def test_a_delayed_rule_removed_then_recovered_is_the_same_rule() -> None:
+    session = _in_state("delayed")
+    delayed = session.mutex.chain.held["r"][0]
+    assert _apply(session, "R")["result"] == "removed"
+    assert _apply(session, "C")["result"] == "recovered"
+    assert session.mutex.chain.active == [delayed]
 
 
 def test_an_unknown_rule_action_is_the_messages_problem() -> None:
