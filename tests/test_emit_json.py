@@ -259,3 +259,26 @@ def _timed(f) -> float:
     start = time.perf_counter()
     f()
     return time.perf_counter() - start
+
+
+def test_commands_one_field_apart_are_written_apart() -> None:
+    """The back end writes each distinct command once (by `MoveCommand.texts`): commands that
+    differ in one field only, and commands alike, are each written with their own fields."""
+    move, led = ["0", "0", "0", "0", "5"], ["1", "0", "0", "0", "0", "5"]
+    audio = ["a.wav", "0", "5"]
+    blocks: list[tuple[list[str], list[str], list[str]]] = [(move, led, audio)] * 2
+    for i in range(len(move)):
+        blocks.append(([*move[:i], "1", *move[i + 1:]], led, audio))
+    for i in range(len(led)):
+        blocks.append((move, [*led[:i], "1" if led[i] != "1" else "0", *led[i + 1:]], audio))
+    for i in range(len(audio)):
+        blocks.append((move, led, [*audio[:i], "b.wav" if i == 0 else "1", *audio[i + 1:]]))
+    text = "[s]\n[goal:g]\n[action]\n" + "".join(
+        f'[b##blk_inst: MV("{", ".join(m)}") LD("{", ".join(d)}") AO("{", ".join(a)}")]\n'
+        for m, d, a in blocks) + "[b##blk_terminus]\n"
+    written = json.loads(compile_text(text))["goal0"]["act0"]
+    for b, (m, d, a) in enumerate(blocks):
+        block = written[f"blk{b}"]
+        assert [[str(v) for v in c.values()] for c in block["move"]] == [m]
+        assert [[str(v) for v in c.values()] for c in block["led"]] == [d]
+        assert [[str(v) for v in c.values()] for c in block["audioout"]] == [a]

@@ -145,8 +145,9 @@ def read_command(command: Command) -> CommandRead:
 def read_tracks(block: InstructionBlock,
                 seen: dict[tuple[str, ...], CommandRead] | None = None) -> Tracks:
     """The block's tracks read (`Tracks`), each command by `read_command`. `seen` holds the
-    commands read so far, by the texts of their numbers: a script repeats its commands (a
-    still move, the LEDs off, the same times), and a 1 MB script holds some 100,000 numbers."""
+    commands read so far, by their texts (`MoveCommand.texts`): a script repeats its commands
+    (a still move, the LEDs off, the same times), and a 1 MB script holds some 100,000
+    numbers."""
     if seen is None:
         seen = {}
     moves: list[MoveRead] = []
@@ -156,18 +157,10 @@ def read_tracks(block: InstructionBlock,
     for track in (block.moves, block.leds, block.audios):
         total: int | None = 0
         for command in track:
-            if isinstance(command, MoveCommand):
-                key: tuple[str, ...] = ("MV", command.v_x.text, command.v_y.text,
-                                        command.v_theta.text, command.wait_t.text,
-                                        command.duration.text)
-            elif isinstance(command, LedCommand):
-                key = ("LD", command.r.text, command.g.text, command.b.text,
-                       command.turnas.text, command.wait_t.text, command.duration.text)
-            else:
-                key = ("AO", command.wait_t.text, command.duration.text)
-            found = seen.get(key)
+            texts = command.texts
+            found = seen.get(texts)
             if found is None:
-                found = seen[key] = read_command(command)
+                found = seen[texts] = read_command(command)
             read, exact, plain_times = found
             plain = plain and plain_times
             total = None if total is None or exact is None else total + exact

@@ -24,8 +24,10 @@ label no block carries, a label on two blocks, a time that is not a whole number
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from decimal import Decimal, InvalidOperation
 from json.encoder import encode_basestring as _json_string
+from typing import TypeVar
 
 from scriptc.emit.condition import condition_text
 from scriptc.ir.nodes import (
@@ -169,15 +171,32 @@ def _target(target: Name | None, paths: dict[str, str]) -> str:
                         "carries") from None
 
 
-def _block(key: str, block: Block, paths: dict[str, str]) -> str:
+_Command = TypeVar("_Command", MoveCommand, LedCommand, AudioCommand)
+
+
+def _once(seen: dict[tuple[str, ...], str], command: _Command,
+          write: Callable[[_Command], str]) -> str:
+    """`write(command)`, or the JSON of a command alike written before."""
+    texts = command.texts
+    found = seen.get(texts)
+    if found is None:
+        found = seen[texts] = write(command)
+    return found
+
+
+def _block(key: str, block: Block, paths: dict[str, str], seen: dict[tuple[str, ...], str]
+           ) -> str:
+    """The member `key` of an action: the JSON of `block`. `seen` holds the JSON of the
+    commands written so far, by their texts (`MoveCommand.texts`: a script repeats its
+    commands)."""
     if isinstance(block, InstructionBlock):
         return (
             f'"{key}":{{\n"type":"instruction",\n"flagged":"flag",\n'
-            + _array("move", [_move(c) for c in block.moves])
+            + _array("move", [_once(seen, c, _move) for c in block.moves])
             + ",\n"
-            + _array("led", [_led(c) for c in block.leds])
+            + _array("led", [_once(seen, c, _led) for c in block.leds])
             + ",\n"
-            + _array("audioout", [_audio(c) for c in block.audios])
+            + _array("audioout", [_once(seen, c, _audio) for c in block.audios])
             + "\n}"
         )
     if isinstance(block, JumpBlock):
@@ -202,6 +221,7 @@ def _block(key: str, block: Block, paths: dict[str, str]) -> str:
 def emit_json(script: Script) -> str:
     """The thesis JSON text of `script` (ends with a newline)."""
     paths = label_paths(script)
+    seen: dict[tuple[str, ...], str] = {}  # (bounded by the script)
     members = [
         f'"activityname":{_json_string(script.name.text)}',
         _array("alfarulemessages", [_rule_message(m) for m in script.alfa]),
@@ -210,7 +230,8 @@ def emit_json(script: Script) -> str:
     for g, goal in enumerate(script.goals):
         goal_members = [f'"goalid":{_json_string(goal.id.text)}']
         for a, action in enumerate(goal.actions):
-            blocks = [_block(f"blk{b}", block, paths) for b, block in enumerate(action.blocks)]
+            blocks = [_block(f"blk{b}", block, paths, seen)
+                      for b, block in enumerate(action.blocks)]
             goal_members.append(_object(f"act{a}", blocks))
         members.append(_object(f"goal{g}", goal_members))
     return "{\n" + ",\n".join(members) + "\n}\n"

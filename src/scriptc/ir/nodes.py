@@ -299,6 +299,13 @@ class MoveCommand:
     duration: Number
     span: Span
 
+    @property
+    def texts(self) -> tuple[str, ...]:
+        """The command as written, but for where: its track, then each field's text. Two
+        commands alike (scripts repeat theirs) read and emit alike."""
+        return ("MV", self.v_x.text, self.v_y.text, self.v_theta.text, self.wait_t.text,
+                self.duration.text)
+
 
 @node
 class LedCommand:
@@ -310,6 +317,12 @@ class LedCommand:
     duration: Number
     span: Span
 
+    @property
+    def texts(self) -> tuple[str, ...]:
+        """As `MoveCommand.texts`."""
+        return ("LD", self.r.text, self.g.text, self.b.text, self.turnas.text, self.wait_t.text,
+                self.duration.text)
+
 
 @node
 class AudioCommand:
@@ -317,6 +330,11 @@ class AudioCommand:
     wait_t: Number
     duration: Number
     span: Span
+
+    @property
+    def texts(self) -> tuple[str, ...]:
+        """As `MoveCommand.texts` (the path's value: escapes resolved)."""
+        return ("AO", self.track_path.value, self.wait_t.text, self.duration.text)
 
 
 Command: TypeAlias = MoveCommand | LedCommand | AudioCommand
