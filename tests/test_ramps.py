@@ -288,3 +288,50 @@ def test_the_bound_of_centred_ramps_holds(moves) -> None:
     assert all(m.centred for m in motions) and run.exit == REST
     assert math.hypot(run.error[0], run.error[1]) <= bound + 1e-6
     assert run.error[2] == pytest.approx(0.0, abs=1e-12)
+
+
+@st.composite
+def flows(draw) -> str:
+    """A script of instruction blocks that take time and that take none, sensor blocks, jumps
+    (constant or not, to any block or on) and termini."""
+    n = draw(st.integers(1, 8))
+    lines = ["[flow]", "[goal:g]", "[action]"]
+    for k in range(n):
+        kind = draw(st.sampled_from("iizsjjt"))
+        label = f"b{k}"
+        if kind == "i":
+            lines.append(f'[b#{label}#blk_inst: MV() LD("1, 0, 0, 1, 0, 100") AO()]')
+        elif kind == "z":
+            lines.append(f"[b#{label}#blk_inst: MV() LD() AO()]")
+        elif kind == "s":
+            lines.append(f"[b#{label}#blk_sens]")
+        elif kind == "t":
+            lines.append(f"[b#{label}#blk_terminus]")
+        else:
+            true, false = (draw(st.sampled_from(["", *(f"b{m}" for m in range(n))]))
+                           for _ in range(2))
+            condition = draw(st.sampled_from(["{TRUE}", "! {E: gt(@x, 1)}"]))
+            lines.append(f"[b#{label}#blk_jump: CND({condition}) TRJMP({true}) "
+                         f"FLSJMP({false})]")
+    return "\n".join(lines) + "\n"
+
+
+@given(flows())
+def test_the_next_blocks_that_take_time_are_those_the_search_finds(text: str) -> None:
+    """`ramps.NextTimed.after` answers the common cases without a search: what it finds is
+    what `flow.next_timed` finds from the block's successors, for every block."""
+    from scriptc.check.context import Context
+    from scriptc.check.flow import next_timed, successors
+    from scriptc.check.ramps import NextTimed
+    from scriptc.frontend.script import lower_script
+    from scriptc.source import SourceFile
+
+    source = SourceFile("flow.script", text)
+    script, _ = lower_script(source)
+    assert script is not None
+    ctx = Context(script, source)
+    flow = NextTimed(ctx)
+    succ = successors(ctx)[0]
+    timed = [d != 0 for d in ctx.durations]
+    for i in range(len(ctx.blocks)):
+        assert flow.after(i) == next_timed(ctx.blocks, succ, timed, succ[i], 256), i

@@ -32,11 +32,11 @@ import math
 from collections import deque
 from itertools import pairwise
 
-from scriptc.check.context import Context, Tracks
+from scriptc.check.context import Context, MoveRead, Tracks
 from scriptc.check.flow import next_timed, successors
 from scriptc.diagnostics.codes import diagnostic
 from scriptc.diagnostics.model import Diagnostic, Label
-from scriptc.ir.nodes import InstructionBlock, MoveCommand
+from scriptc.ir.nodes import InstructionBlock, JumpBlock, MoveCommand
 from scriptc.robot.motion import (
     GROUPS,
     REST,
@@ -89,15 +89,19 @@ class _Moves:
     """An instruction block's move track, read: the steps of its velocity (within the speed
     limits), its length, and when each command starts (ms from the block's start)."""
 
-    __slots__ = ("block", "commands", "ideal", "index", "key", "length", "starts", "steps")
+    __slots__ = ("block", "commands", "ideal", "index", "key", "length", "starts")
 
-    def __init__(self, index: int, block: InstructionBlock, commands: list[MoveCommand],
-                 starts: list[int], steps: list[tuple[int, Velocity]], length: int) -> None:
-        self.index, self.block, self.commands, self.starts = index, block, commands, starts
-        self.steps, self.length = steps, length
-        self.key = (tuple(steps), length)
+    def __init__(self, index: int, block: InstructionBlock, starts: list[int],
+                 key: _MovesKey) -> None:
+        self.index, self.block, self.commands, self.starts = index, block, block.moves, starts
+        self.length, self.key = key[1], key
         # where the steps take the robot (`motion.ideal_pose`), when needed
         self.ideal: Pose | None = None
+
+    @property
+    def steps(self) -> list[tuple[int, Velocity]]:
+        """The steps of the track's velocity (`motion.track_steps`), for a run."""
+        return list(self.key[0])
 
     def command_at(self, t: int) -> MoveCommand | None:
         """The command that starts at `t`, or the last one started before."""
@@ -109,24 +113,41 @@ class _Moves:
         return found
 
 
-def _read(index: int, tracks: Tracks, profile: Profile) -> _Moves | None:
+# `_read`'s work for a move track, by what it read (`Tracks.moves`) and the block's length:
+# when each command starts and the `_MovesKey`, or None (not readable).
+_Steps = dict[tuple[tuple[MoveRead, ...], int], tuple[list[int], _MovesKey] | None]
+
+
+def _read(index: int, tracks: Tracks, profile: Profile, seen: _Steps) -> _Moves | None:
     """The move track of an instruction block (its tracks read), or None when the block
-    takes no time or a number of its moves is not readable (V002, V003, V006)."""
+    takes no time or a number of its moves is not readable (V002, V003, V006). `seen` holds
+    the tracks read so far: a script repeats its blocks."""
     length = tracks.duration
     if not length or length < 0:
         return None
+    read = (tuple(tracks.moves), length)
+    if read in seen:
+        found = seen[read]
+    else:
+        found = seen[read] = _steps(tracks.moves, length, profile)
+    return None if found is None else _Moves(index, tracks.block, *found)
+
+
+def _steps(reads: list[MoveRead], length: int, profile: Profile,
+           ) -> tuple[list[int], _MovesKey] | None:
+    """When each move starts and the steps of the track's velocity (`_MovesKey`), or None
+    when a number is not readable."""
     moves: list[tuple[Velocity, int, int]] = []
     starts: list[int] = []
     t = 0
-    for velocity, wait, duration in tracks.moves:
+    for velocity, wait, duration in reads:
         if velocity is None or wait is None or duration is None:
             return None
         t += wait
         starts.append(t)
         t += duration
         moves.append((limit_speed(velocity, profile)[0], wait, duration))
-    block = tracks.block
-    return _Moves(index, block, list(block.moves), starts, track_steps(moves), length)
+    return starts, (tuple(track_steps(moves)), length)
 
 
 def _off(error: _Error) -> tuple[float, float]:
@@ -163,16 +184,30 @@ class NextTimed:
         """Where control may go when block `i` ends: (next block that takes time, via)."""
         found = self._after.get(i)
         if found is None:
-            succ = self.succ[i]
-            # (when the one next block takes time, no search)
-            found = self._after[i] = ([(succ[0], -1)] if len(succ) == 1 and self.timed[succ[0]]
-                                      else self.search(succ))
+            found = self._after[i] = self._near(self.succ[i]) or self.search(self.succ[i])
         return found
+
+    def _near(self, succ: tuple[int, ...]) -> list[tuple[int, int]] | None:
+        """What `search(succ)` finds, without a search, in the common cases: the one next
+        block takes time; or it takes none and every block after it does (the search crosses
+        it, and a jump there is the way). None otherwise (a search is needed)."""
+        if len(succ) != 1:
+            return None
+        j = succ[0]
+        if self.timed[j]:
+            return [(j, -1)]
+        after = self.succ[j]
+        if not after or not all(self.timed[k] for k in after):
+            return None
+        via = j if isinstance(self.blocks[j], JumpBlock) else -1
+        return [(k, via) for k in after]
 
 
 def check_ramps(ctx: Context, profile: Profile, out: list[Diagnostic]) -> None:
     blocks = ctx.blocks
-    reads = [None if t is None else _read(i, t, profile) for i, t in enumerate(ctx.tracks)]
+    read: _Steps = {}  # (bounded by the script)
+    reads = [None if t is None else _read(i, t, profile, read)
+             for i, t in enumerate(ctx.tracks)]
     if not blocks or not any(r is not None and r.block.moves for r in reads):
         return  # nothing moves
     rates = rates_of(profile)
