@@ -143,7 +143,9 @@ class Lowerer:
         base = self.base
         start, end = token.start_pos, token.end_pos
         assert start is not None and end is not None  # the parsers' tokens have their offsets
-        return ir.Name(token.value[strip:], _span(Span, (base + start + strip, base + end)))
+        if strip:
+            return ir.Name(token.value[strip:], _span(Span, (base + start + strip, base + end)))
+        return ir.Name(token.value, _span(Span, (base + start, base + end)))
 
     def string(self, token: Token) -> ir.Text:
         """A string literal's value; unknown escapes are reported and kept as written."""
@@ -614,7 +616,7 @@ class Lowerer:
                 )
             elif k == "var_assignment":
                 var_t, scope_t, f_call = children
-                var = ir.VarRef(self.name(var_t), self.span(var_t))
+                var = self.var(var_t)
                 call = self.call(f_call.children[0], "F")
                 assignments.append(
                     ir.VarAssignment(
@@ -680,7 +682,12 @@ class Lowerer:
         return ir.Call(kind, name, values, span)
 
     def alias(self, token: Token) -> ir.AliasRef:
-        return ir.AliasRef(self.name(token), self.span(token))
+        name = self.name(token)
+        return ir.AliasRef(name, name.span)  # (the name is the whole reference: one span)
+
+    def var(self, token: Token) -> ir.VarRef:
+        name = self.name(token)
+        return ir.VarRef(name, name.span)
 
     def alias_of(self, node: ParseTree) -> ir.AliasRef:
         """An `alias` or `this` tree (the grammar's `alias_or_this`)."""
@@ -708,8 +715,7 @@ class Lowerer:
             att = self.name(att_t)
             return ir.AttRef(alias, att, _span(Span, (alias.span.start, att.span.end)))
         if k == "var_ref":
-            t = children[0]
-            return ir.VarRef(self.name(t), self.span(t))
+            return self.var(children[0])
         raise AssertionError(f"unknown value node {k}")
 
 
