@@ -14,8 +14,9 @@ The chain pass (`Mutex.pass_chain`): skipped while locked (said once per lock); 
 active rule, in chain order, evaluates its condition (owning its `L` bindings, which end with
 its turn) and its body runs `on_true` or `on_false` with a `rules.RuleContext` over
 `RuleEffects`, the narrow door through which a body acts on the session. A condition that
-cannot be evaluated or a body that raises is reported (`rule`) and the chain goes on. Motion is held for the pass iff a body asked. A rule
-fires (a `rule_fire` event, before its `on_true`) when its condition holds on a pass and did
+cannot be evaluated or a body that raises is reported (`rule`) and the chain goes on. Motion
+is held for the pass iff a body asked. A rule fires (a `rule_fire` event, before its
+`on_true`) when its condition holds on a pass and did
 not on the rule's previous pass (or the rule had none in the chain): one event per time it
 starts to hold, not one per pass (a `{TRUE}` rule fires once), which is what coverage counts.
 """
