@@ -29,6 +29,7 @@ from scriptc.syntax.larkshim import (
     terminal_regexp,
     token_from_match,
     tokens_from_match,
+    tree_code,
 )
 from scriptc.syntax.lexer import ContextualFastLexer
 from scriptc.syntax.parser import script_lark
@@ -176,6 +177,18 @@ def test_a_token_made_without_its_constructor_is_lark_token() -> None:
     assert (token.type, token.value, token.start_pos, token.end_pos) == \
         (made.type, made.value, made.start_pos, made.end_pos)
     assert Tree("x", [token]) == Tree("x", [made])
+
+
+def test_a_tree_made_without_its_constructor_is_lark_tree() -> None:
+    """`tree_code` makes a `Tree` with the attributes lark's constructor sets (`data`,
+    `children`, `_meta`): equal to lark's, its `meta` made on demand as lark makes it."""
+    namespace: dict[str, object] = {"Tree": Tree, "new_object": object.__new__,
+                                    "kids": ["a", None]}
+    exec(tree_code("made", "'rule'", "kids"), namespace)
+    made = namespace["made"]
+    built = Tree("rule", ["a", None])
+    assert type(made) is Tree and made == built and made.children is namespace["kids"]
+    assert vars(made) == vars(built) and made.meta.empty and repr(made) == repr(built)
 
 
 def test_the_tokens_of_a_match_at_once_are_those_made_one_by_one() -> None:

@@ -224,7 +224,7 @@ def check_ramps(ctx: Context, profile: Profile, out: list[Diagnostic]) -> None:
     # is really in (`motion.run_block`). It is reported at the block whose run adds the most
     # (`blame`). The states along the control flow: (block, entry, error so far, the chain's
     # first block, blame), at most MAX_ENTRIES per block.
-    seen: list[set[tuple[EntryKey, _Error, int, _Blame]]] = [set() for _ in blocks]
+    seen: dict[int, set[tuple[EntryKey, _Error, int, _Blame]]] = {}  # by block, once reached
     # blamed block -> (error, its entry, the chain's first block)
     found: dict[int, tuple[_Error, EntryKey, int]] = {}
     start = (REST, (0.0, 0.0, 0.0), -1, _NO_BLAME)
@@ -233,9 +233,12 @@ def check_ramps(ctx: Context, profile: Profile, out: list[Diagnostic]) -> None:
         b, entry, error, first, blame = todo.popleft()
         entry_key = entry.key()
         key = (entry_key, error, first, blame)
-        if key in seen[b] or len(seen[b]) >= MAX_ENTRIES:
+        states = seen.get(b)
+        if states is None:
+            states = seen[b] = set()
+        elif key in states or len(states) >= MAX_ENTRIES:
             continue
-        seen[b].add(key)
+        states.add(key)
         if first < 0:
             first = b
         moves = reads[b]

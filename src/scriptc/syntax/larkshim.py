@@ -18,7 +18,8 @@ through here:
   and `callbacks`, the lexer state's `text` (a `TextSlice`, or the text itself before lark
   1.3), the parser state's `position`, `state_stack` and `parse_conf.parse_table`); the
   constructors of `UnexpectedToken` and `UnexpectedCharacters` with a parser state; a `Token`
-  made without its constructor (`str.__new__` and its slots).
+  made without its constructor (`str.__new__` and its slots), and a `Tree` (`object.__new__`
+  and its attributes `data`, `children`, `_meta`).
 
 tests/test_larkshim.py names each of these internals in a test of its own, so that a lark
 that changes one fails there, by name; `pyproject.toml` pins lark to the versions that pass it
@@ -76,6 +77,7 @@ __all__ = [
     "terminal_regexp",
     "token_from_match",
     "tokens_from_match",
+    "tree_code",
     "unexpected_characters",
     "unexpected_token",
 ]
@@ -131,6 +133,15 @@ def tokens_from_match(m: re.Match[str], steps: tuple[tuple[int, str], ...]) -> l
         token.line = token.column = token.end_line = token.end_column = None
         tokens.append(token)
     return tokens
+
+
+def tree_code(var: str, data: str, children: str) -> str:
+    """A Python statement, for code that `exec` runs with `Tree` and `new_object`
+    (`object.__new__`) in its namespace, that makes `var` the tree `Tree(data, children)`
+    without its constructor (its attributes `data`, `children` and `_meta` set directly: a
+    large script's items make a hundred thousand trees)."""
+    return (f"{var} = new_object(Tree); {var}.data = {data}; {var}.children = {children}; "
+            f"{var}._meta = None")
 
 
 # ---------------------------------------------------------------------------------------------

@@ -47,6 +47,7 @@ from scriptc.syntax.larkshim import (
     lexer_of,
     token_from_match,
     tokens_from_match,
+    tree_code,
 )
 from scriptc.syntax.lexer import ContextualFastLexer, Scanner
 
@@ -312,7 +313,7 @@ class ShapeParser:
 def _compile(code: str, constants: list[object]) -> _Generated:
     """The function `build` that `code` defines, reading `constants` as `C`."""
     namespace: dict[str, object] = {"T": token_from_match, "TS": tokens_from_match, "Tree": Tree,
-                                    "C": constants}
+                                    "new_object": object.__new__, "C": constants}
     exec(compile(code, "<item shape>", "exec"), namespace)
     build = namespace["build"]
     assert callable(build)
@@ -326,9 +327,11 @@ def _template(tree: ParseTree, starts: list[int],
     matches `ms` of an item of the same shape, and the constants it reads (`first`, then rule
     names and token types, as lark made them). Token i starts at `starts[i]` in the item; its
     code is `token_of(i, its type, constant)` (`constant(value)`: the code reading a
-    constant); `prelude` is a line run first."""
+    constant); `prelude` is a line run first. Each tree is a statement of its own
+    (`larkshim.tree_code`), children first."""
     index = {start: i for i, start in enumerate(starts)}
     constants: list[object] = list(first)
+    lines = [prelude] if prelude else []
 
     def constant(value: object) -> str:
         constants.append(value)
@@ -341,9 +344,12 @@ def _template(tree: ParseTree, starts: list[int],
             assert node.start_pos is not None  # (the table parse's tokens have their offsets)
             return token_of(index[node.start_pos], node.type, constant)
         children = ", ".join(code(child) for child in node.children)
-        return f"Tree({constant(node.data)}, [{children}])"
+        var = f"t{len(lines)}"
+        lines.append(tree_code(var, constant(node.data), f"[{children}]"))
+        return var
 
-    body = code(tree)
-    prelude = f"    {prelude}\n" if prelude else ""
-    return (f"def build(ms, T=T, TS=TS, Tree=Tree, C=C):\n{prelude}    return {body}\n",
-            constants)
+    result = code(tree)
+    body = "".join(f"    {line}\n" for line in lines)
+    code_text = (f"def build(ms, T=T, TS=TS, Tree=Tree, new_object=new_object, C=C):\n{body}"
+                 f"    return {result}\n")
+    return code_text, constants
