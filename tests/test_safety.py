@@ -128,3 +128,24 @@ def test_lint_and_compile_use_the_repository_profile(tmp_path) -> None:
     assert result.exit_code == 0 and "K001" not in result.output, result.output
     compiled = runner.invoke(cli, ["compile", str(script), "-o", str(tmp_path / "fast.json")])
     assert compiled.exit_code == 0 and "K001" not in compiled.output, compiled.output
+
+
+def test_k001_names_the_profile_and_where_it_comes_from() -> None:
+    """K001's notes give the profile's limit, and the configuration file it comes from when
+    it is not the defaults (once per check: the words are written once)."""
+    analysis = analyze_bytes("s.script", block(mv='"0.9, 0, 2.5, 0, 1000"').encode(), "script")
+    for profile, source in ((DEFAULT_PROFILE, ""),
+                            (build_settings({"robot": {"max-linear-speed": 0.7}},
+                                            path="/repo/scriptc.toml").robot,
+                             " (from /repo/scriptc.toml)")):
+        ctx = Context(analysis.script, analysis.source)
+        ctx.profile = profile
+        found = [d for d in check_safety(ctx) if d.code == "K001"]
+        linear = f"{profile.max_linear_speed:g}"
+        assert [d.message for d in found] == [
+            f"this move goes at 0.9 m/s, above the robot profile's {linear} m/s",
+            "this move turns at 2.5 rad/s, above the robot profile's 1.5 rad/s"]
+        assert [d.notes[-1] for d in found] == [
+            f"profile{source}: max-linear-speed = {linear}",
+            f"profile{source}: max-angular-speed = 1.5"]
+        assert found[0].notes[0].startswith(f"the run-time governor slows it to {linear} m/s")

@@ -69,13 +69,14 @@ def check_safety(ctx: Context) -> list[Diagnostic]:
     out: list[Diagnostic] = []
     lights = False
     max_linear, max_angular = profile.max_linear_speed, profile.max_angular_speed
+    limits = _Limits(profile)
     for tracks in ctx.tracks:
         if tracks is None:
             continue
         for mv, (velocity, _, _) in zip(tracks.block.moves, tracks.moves, strict=True):
             if velocity is not None and (math.hypot(velocity[0], velocity[1]) > max_linear
                                          or abs(velocity[2]) > max_angular):
-                _speed(mv, velocity, profile, out)
+                _speed(mv, velocity, limits, out)
         lights = lights or bool(tracks.leds)
     if lights:
         with gc_paused():  # many small acyclic objects (scriptc/gcpause.py)
@@ -84,30 +85,41 @@ def check_safety(ctx: Context) -> list[Diagnostic]:
     return out
 
 
-def _speed(mv: MoveCommand, velocity: Velocity, profile: Profile,
+class _Limits:
+    """The profile's speeds and their words in K001, written once per check (a script may
+    have thousands of moves above them)."""
+
+    __slots__ = ("angular", "angular_text", "linear", "linear_text", "source")
+
+    def __init__(self, profile: Profile) -> None:
+        self.linear, self.angular = profile.max_linear_speed, profile.max_angular_speed
+        self.linear_text, self.angular_text = _fmt(self.linear), _fmt(self.angular)
+        self.source = "" if profile.source == "defaults" else f" (from {profile.source})"
+
+
+def _speed(mv: MoveCommand, velocity: Velocity, limits: _Limits,
            out: list[Diagnostic]) -> None:
     """K001 for a move whose velocity (finite: V002/V003 report the others) is above the
     profile's."""
     v_x, v_y, w = velocity
     speed = math.hypot(v_x, v_y)
-    source = "" if profile.source == "defaults" else f" (from {profile.source})"
-    if speed > profile.max_linear_speed:
+    linear, angular = limits.linear_text, limits.angular_text
+    if speed > limits.linear:
         span = mv.v_x.span if abs(v_x) >= abs(v_y) else mv.v_y.span
         out.append(diagnostic(
             "K001", f"this move goes at {_fmt(speed)} m/s, above the robot profile's "
-                    f"{_fmt(profile.max_linear_speed)} m/s", span,
-            notes=((f"the run-time governor slows it to {_fmt(profile.max_linear_speed)} m/s: "
-                    f"it goes {_fmt(profile.max_linear_speed / speed * 100)}% as far as "
-                    "written"),
-                   f"profile{source}: max-linear-speed = {_fmt(profile.max_linear_speed)}"),
+                    f"{linear} m/s", span,
+            notes=((f"the run-time governor slows it to {linear} m/s: "
+                    f"it goes {_fmt(limits.linear / speed * 100)}% as far as written"),
+                   f"profile{limits.source}: max-linear-speed = {linear}"),
             help="lower the speed and lengthen the duration to keep the distance"))
-    if abs(w) > profile.max_angular_speed:
+    if abs(w) > limits.angular:
         out.append(diagnostic(
             "K001", f"this move turns at {_fmt(abs(w))} rad/s, above the robot profile's "
-                    f"{_fmt(profile.max_angular_speed)} rad/s", mv.v_theta.span,
-            notes=((f"the run-time governor slows it to {_fmt(profile.max_angular_speed)} "
+                    f"{angular} rad/s", mv.v_theta.span,
+            notes=((f"the run-time governor slows it to {angular} "
                     "rad/s: it turns less far than written"),
-                   f"profile{source}: max-angular-speed = {_fmt(profile.max_angular_speed)}"),
+                   f"profile{limits.source}: max-angular-speed = {angular}"),
             help="lower the turning speed and lengthen the duration to keep the angle"))
 
 
