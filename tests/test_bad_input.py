@@ -68,6 +68,31 @@ def test_a_megabyte_of_blanks_before_a_syntax_error_is_linear() -> None:
     assert found == ["P001"] and took < 5, took
 
 
+def test_syntax_errors_stop_at_a_hundred_parsed_item_by_item_or_first() -> None:
+    """Items that do not parse are reported up to `MAX_SYNTAX_ERRORS`; when the scan alone
+    found more, the last says so in a note. Lowering parses each item as it lowers it
+    (`each_item`) and reports what parsing them all first reports (`parse_items`), in the
+    same order."""
+    from scriptc.frontend.script import Lowerer, lower_script
+    from scriptc.syntax.parser import parse_items
+    from scriptc.syntax.scan import MAX_SYNTAX_ERRORS
+
+    note = f"scriptc stopped after {MAX_SYNTAX_ERRORS} syntax errors; fix these first"
+    for text, noted in ((HEAD + "[b##blk_inst: MV(1)]\n" * 150 + "[b##blk_terminus]\n", False),
+                        (HEAD + "[" * 300, True)):
+        _, streamed = lower_script(SourceFile("s.script", text))
+        parsed = parse_items(text)
+        lowerer = Lowerer(text)
+        lowerer.script(SourceFile("s.script", text), parsed)
+        assert streamed == lowerer.diagnostics == parsed.diagnostics
+        assert len(streamed) == MAX_SYNTAX_ERRORS
+        assert [note in d.notes for d in streamed] == [False] * (MAX_SYNTAX_ERRORS - 1) + [noted]
+    # the syntax errors come first, then lowering's, wherever they are in the file
+    text = HEAD + '[b##blk_inst: MV("x, 0, 0, 0, 0") LD() AO()]\n' + "[b##blk_inst: MV(1)]\n" * 3
+    assert [d.code for d in lower_script(SourceFile("s.script", text))[1]] == ["P002"] * 3 + [
+        "V002"]
+
+
 def test_unclosed_everything() -> None:
     found = codes('[act\n[goal:g\n[action\n[b##blk_inst: MV("1, 0')
     assert found == ["P002", "P002", "P002", "P003"]

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import difflib
 import re
+from collections.abc import Iterable
 from enum import Enum
 from typing import Final
 
@@ -26,7 +27,14 @@ from scriptc.source import SourceFile, Span
 
 # The parse trees (lark stays behind syntax/): a child is read by its place in its rule.
 from scriptc.syntax.larkshim import Child, ParseTree, Token, Tree
-from scriptc.syntax.parser import ParsedScript, parse_condition_tree, parse_items
+from scriptc.syntax.parser import (
+    ParsedItem,
+    ParsedScript,
+    each_item,
+    parse_condition_tree,
+    script_parser,
+)
+from scriptc.syntax.scan import scan
 
 MOVE_FIELDS = ("v_x", "v_y", "v_theta", "wait_t", "duration")
 LED_FIELDS = ("r", "g", "b", "turnas", "wait_t", "duration")
@@ -174,13 +182,17 @@ class Lowerer:
     # -- the script -----------------------------------------------------------------------
 
     def script(self, source: SourceFile, parsed: ParsedScript | None = None) -> ir.Script | None:
-        """Lower the items of `source` (parsed here, unless `parsed`, the parse of this same
-        text, is given)."""
-        parsed = parsed if parsed is not None else parse_items(source.text)
-        self.diagnostics.extend(parsed.diagnostics)
-        # When items were lost to syntax errors, "this goal has no action" and the like would
-        # report the loss again, not a mistake of the script's structure.
-        lost_items = bool(parsed.diagnostics)
+        """Lower the items of `source`: each parsed here as it is lowered (`each_item`: one
+        tree at a time), unless `parsed`, the parse of this same text, is given."""
+        items: Iterable[ParsedItem]
+        if parsed is None:
+            scanned = scan(source.text)
+            syntax = list(scanned.diagnostics)  # (`each_item` adds the parse's, as it goes)
+            items = each_item(source.text, scanned, script_parser(), syntax)
+        else:
+            syntax, items = parsed.diagnostics, parsed.items
+        # the syntax errors come first, then lowering's (they are found as items are lowered)
+        at = len(self.diagnostics)
         name: ir.Name | None = None
         alfa: list[ir.RuleMessage] = []
         omega: list[ir.RuleMessage] = []
@@ -190,7 +202,7 @@ class Lowerer:
         blocks: list[ir.Block] | None = None  # blocks of the current action
         first = True
         word: Child  # the word of a name item, the id of a goal: a NAME token (or None)
-        for item in parsed.items:
+        for item in items:
             self.base = item.base
             tree = item.tree
             kind = _kind(tree)
@@ -259,6 +271,10 @@ class Lowerer:
                     continue
                 if block is not None:
                     blocks.append(block)
+        self.diagnostics[at:at] = syntax
+        # When items were lost to syntax errors, "this goal has no action" and the like would
+        # report the loss again, not a mistake of the script's structure.
+        lost_items = bool(syntax)
         if first:  # no item at all
             if lost_items:
                 return None

@@ -3,8 +3,9 @@
 `parse_items(text)` scans the text into items (scan.py), parses each one with the `item` start
 symbol of grammar/script.lark, and returns the trees with their offsets plus diagnostics. An
 item that does not parse is reported once, in words ("expected `)` to close `MV(`"), and
-skipped; the others are still parsed. `parse_condition_tree(text)` parses a condition alone
-(grammar/condition.lark), for the `toparse` strings of thesis JSON.
+skipped; the others are still parsed. `each_item` does the same one item at a time, for
+lowering that takes each tree as it comes. `parse_condition_tree(text)` parses a condition
+alone (grammar/condition.lark), for the `toparse` strings of thesis JSON.
 
 Token offsets in the returned trees are relative to the item's text; `ParsedItem.base` is the
 item's offset in the file. Nothing here raises on bad input.
@@ -14,7 +15,7 @@ from __future__ import annotations
 
 import difflib
 import re
-from collections.abc import Collection, Iterable
+from collections.abc import Collection, Iterable, Iterator
 from dataclasses import dataclass, replace
 from functools import cache
 from typing import Protocol
@@ -109,9 +110,19 @@ def parse_items(text: str, *, scanned: Scan | None = None,
     language server passes a parser that answers from its cache of item texts
     (scriptc.ide.incremental)."""
     scanned = scanned if scanned is not None else scan(text)
-    parser = parser if parser is not None else script_parser()
-    items: list[ParsedItem] = []
     diagnostics = list(scanned.diagnostics)
+    items = list(each_item(text, scanned, parser if parser is not None else script_parser(),
+                           diagnostics))
+    return ParsedScript(items, scanned.comments, diagnostics)
+
+
+def each_item(text: str, scanned: Scan, parser: ItemParser,
+              diagnostics: list[Diagnostic]) -> Iterator[ParsedItem]:
+    """The items of `text` (`scanned`: its scan), each parsed as it is asked for: lowering
+    that takes each at once keeps one item's tree at a time (a 1 MB script's trees are some
+    400,000 objects). Syntax errors are added to `diagnostics` (the scan's are there first),
+    at most `MAX_SYNTAX_ERRORS`: once they are all in, the last says in a note that there
+    were more."""
     for raw in scanned.items:
         if len(diagnostics) >= MAX_SYNTAX_ERRORS:
             break
@@ -125,14 +136,13 @@ def parse_items(text: str, *, scanned: Scan | None = None,
             if raw.closed:  # an unclosed item was reported already; don't pile on
                 diagnostics.append(describe(error, item_text, start, parser))
             continue
-        items.append(ParsedItem(tree, start, raw.span))
+        yield ParsedItem(tree, start, raw.span)
     if len(diagnostics) > MAX_SYNTAX_ERRORS:
         # 20,000 stray brackets are one problem to the person reading the report.
         last = diagnostics[MAX_SYNTAX_ERRORS - 1]
         note = f"scriptc stopped after {MAX_SYNTAX_ERRORS} syntax errors; fix these first"
-        diagnostics = [*diagnostics[: MAX_SYNTAX_ERRORS - 1],
-                       replace(last, notes=(*last.notes, note))]
-    return ParsedScript(items, scanned.comments, diagnostics)
+        del diagnostics[MAX_SYNTAX_ERRORS:]
+        diagnostics[-1] = replace(last, notes=(*last.notes, note))
 
 
 def parse_condition_tree(text: str, base: int = 0) -> tuple[ParseTree | None, list[Diagnostic]]:
