@@ -190,15 +190,11 @@ def _block(key: str, block: Block, paths: dict[str, str], seen: dict[tuple[str, 
     commands written so far, by their texts (`MoveCommand.texts`: a script repeats its
     commands)."""
     if isinstance(block, InstructionBlock):
-        return (
-            f'"{key}":{{\n"type":"instruction",\n"flagged":"flag",\n'
-            + _array("move", [_once(seen, c, _move) for c in block.moves])
-            + ",\n"
-            + _array("led", [_once(seen, c, _led) for c in block.leds])
-            + ",\n"
-            + _array("audioout", [_once(seen, c, _audio) for c in block.audios])
-            + "\n}"
-        )
+        moves = _array("move", [_once(seen, c, _move) for c in block.moves])
+        leds = _array("led", [_once(seen, c, _led) for c in block.leds])
+        audios = _array("audioout", [_once(seen, c, _audio) for c in block.audios])
+        return (f'"{key}":{{\n"type":"instruction",\n"flagged":"flag",\n'
+                f"{moves},\n{leds},\n{audios}\n}}")
     if isinstance(block, JumpBlock):
         return (
             f'"{key}":{{\n"type":"jump",\n'
