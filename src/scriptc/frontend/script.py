@@ -154,7 +154,7 @@ class Lowerer:
 
     def string(self, token: Token) -> ir.Text:
         """A string literal's value; unknown escapes are reported and kept as written."""
-        raw = str(token)[1:-1]
+        raw = token.value[1:-1]
         span = self.span(token)
         if "\\" not in raw:
             return ir.Text(raw, span)
@@ -712,7 +712,7 @@ class Lowerer:
         children: list[Child] = node.children  # by the rule `k`
         if k == "number":
             t = children[0]
-            return ir.NumberValue(ir.Number(str(t), self.span(t)))
+            return ir.NumberValue(ir.Number(t.value, self.span(t)))  # (`value`: a plain str)
         if k == "string":
             return ir.StringValue(self.string(children[0]))
         if k in ("alias", "this"):
