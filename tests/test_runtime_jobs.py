@@ -14,8 +14,10 @@ from pathlib import Path
 import pytest
 
 from scriptc.analysis.analyze import analyze_bytes
+from scriptc.runtime.actuators import Actuators
 from scriptc.runtime.bindings import READER, Bindings
-from scriptc.runtime.commands import RuleMessage
+from scriptc.runtime.clock import EventQueue
+from scriptc.runtime.commands import BlockCommands, Move, RuleMessage
 from scriptc.runtime.goals import Goals
 from scriptc.runtime.interp import IRProgram
 from scriptc.runtime.loading import LoadError
@@ -880,6 +882,7 @@ def test_the_actuators_write_each_commands_progress_and_history_to_the_map() -> 
         {"r": 1.0, "g": 0.5, "b": 0.0, "frequency": 0, "duration": 100, "startingtime": 50}]
     assert "audioout" not in robot.history
     assert robot.fields["speed"] is robot.history["speed"][-1]
+    assert _ran_until(450).world.script.subaout == 1
     world = _ran_until(650).world
     info, robot = world.script, world.robot
     # The second block began at 600: its progress starts again from 0.
@@ -899,7 +902,7 @@ def test_a_cancelled_command_is_in_the_history_with_the_time_it_ran_and_no_progr
                                           "duration": 400, "startingtime": 600}
     assert robot.history["led"][-1]["duration"] == 400
     assert robot.history["audioout"][-1]["duration"] == 400
-    assert session.world.script.submove == 0 and session.actuators.consumed
+    assert session.world.script.submove == 0 and not session.actuators.block_active
     assert [e["track"] for e in session.trace.of_kind("cmd_stop") if e.get("cancelled")] == \
         ["move", "led", "audioout"]
 
@@ -919,6 +922,168 @@ def test_a_frozen_block_pauses_its_audio_and_resumes_where_it_stopped() -> None:
         [(100, 200 + 300), (600, 300)]
     assert robot.history["audioout"][0] == {"duration": 700, "startingtime": 0,
                                             "trackpath": "song.wav"}
+
+
+# -- the actuators alone: a queue, a robot, a trace and a map -------------------------------------
+
+
+class Wheels:
+    """A robot (the `Drive` the actuators need) that keeps the velocities it is given."""
+
+    name = "wheels"
+
+    def __init__(self) -> None:
+        self.given: list[tuple[int, float, float, float]] = []
+
+    def set_velocity(self, t_ms: int, v_x: float, v_y: float, v_theta: float) -> None:
+        self.given.append((t_ms, v_x, v_y, v_theta))
+
+
+def _actuators() -> tuple[Actuators, EventQueue, Wheels, Trace]:
+    queue, wheels, trace = EventQueue(), Wheels(), Trace()
+    return Actuators(queue, wheels, trace, World()), queue, wheels, trace
+
+
+def _until(queue: EventQueue, t: int) -> None:
+    """Run every event due by `t`, in order."""
+    while (due := queue.next_time()) is not None and due <= t:
+        while (item := queue.pop_due(due)) is not None:
+            item[0](due, item[1])
+
+
+def _stops(trace: Trace) -> list[tuple[int, str, bool]]:
+    return [(e["t"], e["track"], e.get("cancelled", False)) for e in trace.of_kind("cmd_stop")]
+
+
+STEP = BlockCommands(moves=(Move(0.1, 0.0, 0.0, 0, 100),))
+
+
+def test_a_block_alone_is_consumed_when_its_tracks_are_done() -> None:
+    act, queue, wheels, trace = _actuators()  # no `on_consumed`: nobody to tell
+    act.issue(0, STEP)
+    assert act.block_active
+    _until(queue, 99)
+    assert act.block_active
+    _until(queue, 100)
+    assert not act.block_active and len(queue) == 0
+    assert wheels.given == [(0, 0.1, 0.0, 0.0), (100, 0.0, 0.0, 0.0)]
+    act.issue(100, BlockCommands())  # no command at all: consumed as it is issued
+    assert not act.block_active and _stops(trace) == [(100, "move", False)]
+
+
+@pytest.mark.parametrize("presses", [
+    [(40, True), (70, True), (100, False)],  # already frozen at 70: the 60 ms left stay 60
+    [(40, True), (100, False), (130, False)],  # already running at 130: not put off
+])
+def test_freezing_twice_or_thawing_twice_changes_nothing(presses) -> None:
+    act, queue, _wheels, trace = _actuators()
+    act.issue(0, STEP)
+    for t, on in presses:
+        _until(queue, t - 1)
+        act.freeze(t, on)
+    _until(queue, 1000)
+    assert _stops(trace) == [(160, "move", False)]
+
+
+def test_a_block_frozen_at_the_instant_it_ends_is_consumed_when_it_thaws() -> None:
+    consumed = []
+    act, queue, _wheels, trace = _actuators()
+    act.on_consumed = consumed.append
+    act.issue(0, STEP)
+    _until(queue, 99)
+    act.freeze(100, True)  # before the track's event at 100 runs
+    _until(queue, 300)
+    assert consumed == [] and act.block_active
+    act.freeze(300, False)
+    assert consumed == [300] and not act.block_active
+    assert _stops(trace) == [(300, "move", False)]
+
+
+def test_a_block_issued_while_frozen_starts_when_it_thaws() -> None:
+    act, queue, _wheels, trace = _actuators()
+    act.freeze(0, True)
+    act.issue(10, BlockCommands(moves=(Move(0.1, 0.0, 0.0, 20, 100),)))
+    _until(queue, 500)
+    assert not trace.of_kind("cmd_start")
+    act.freeze(500, False)
+    _until(queue, 1000)
+    assert [e["t"] for e in trace.of_kind("cmd_start")] == [520]
+    assert _stops(trace) == [(620, "move", False)]
+
+
+def test_a_cancelled_block_leaves_nothing_to_start_later() -> None:
+    act, queue, _wheels, trace = _actuators()
+    act.issue(0, BlockCommands(moves=(Move(0.1, 0.0, 0.0, 500, 100),)))
+    act.cancel(100)  # the move still waits: it never starts
+    assert not act.block_active
+    act.freeze(200, True)
+    act.freeze(300, False)
+    _until(queue, 2000)
+    assert not trace.of_kind("cmd_start") and not _stops(trace)
+
+
+def test_the_operators_drives_and_the_safety_lock() -> None:
+    act, queue, wheels, trace = _actuators()
+    act.issue(0, BlockCommands(moves=(Move(0.1, 0.0, 0.0, 0, 1000),)))
+    act.set_safety(100, True)
+    act.drive(100, (0.5, 0.0, 0.0), 100)  # until 200...
+    act.drive(150, (0.0, 0.5, 0.0), 100)  # ...replaced at 150, until 250
+    act.set_safety(180, True)  # held again: the drive goes on
+    _until(queue, 240)
+    assert act.driving and act.effective_velocity() == (0.0, 0.5, 0.0)
+    _until(queue, 250)
+    # The drive cancelled the running move command: the wheels stop, the move does not resume.
+    assert not act.driving and act.effective_velocity() == (0.0, 0.0, 0.0)
+    assert wheels.given[-3:] == [(100, 0.5, 0.0, 0.0), (150, 0.0, 0.5, 0.0),
+                                 (250, 0.0, 0.0, 0.0)]
+    assert trace.of_kind("velocity")[-1]["cause"] == "operator"
+    act.drive(300, (0.2, 0.0, 0.0), None)
+    act.set_safety(400, False)  # released: the drive ends at once
+    assert not act.driving and wheels.given[-1] == (400, 0.0, 0.0, 0.0)
+
+
+def test_a_drive_ending_is_an_instant_of_the_run() -> None:
+    """The end of a timed drive changes the wheels: the loop settles at that instant (the
+    chain passes), as at any other event that changed something."""
+    passes = []
+    library = STANDARD_RULES.extended()
+    library.register_simple(81, "watch", "{TRUE}", on_true=lambda ctx: passes.append(ctx.now))
+    operator = [{"at": 0, "command": "safety_lock", "held": True},
+                {"at": 100, "command": "drive", "v_x": 0.3, "duration": 50}]
+    text = PLAIN.replace("[plain]\n", '[plain]\n[alfa:81, watch, "", "", A, U]\n'
+                         '[omega:81, watch, "", "", R, L]\n')
+    session = Session([program(text)], trace=Trace(), rules=library,
+                      scenario=scenario_from_data({"operator": operator}))
+    session.run(500)
+    assert 150 in passes and 125 not in passes
+    # A drive replaced before its end: its end is no instant (nothing changes then).
+    operator.append({"at": 200, "command": "drive", "v_x": 0.3, "duration": 50})
+    operator.append({"at": 220, "command": "drive", "v_x": 0.1, "duration": 100})
+    passes.clear()
+    session = Session([program(text)], trace=Trace(), rules=library,
+                      scenario=scenario_from_data({"operator": operator}))
+    session.run(500)
+    assert 250 not in passes and 320 in passes
+
+
+def test_a_cancelled_blocks_queued_events_are_no_instants() -> None:
+    """An override seeks the second goal when a child comes at 300 ms: the running block is
+    cancelled, and the track event it had queued (its audio's end at 1000) makes no instant of
+    the run (at 1300 the new block ends the script, whose omega locks the chain)."""
+    passes = []
+    library = STANDARD_RULES.extended()
+    library.register_simple(82, "watch", "{TRUE}", on_true=lambda ctx: passes.append(ctx.now))
+    when = "{CLASS #Human U ?k (?THIS>&positionrho OP< 1)} ! {TRUE}"
+    text = TWO_GOALS.replace("[two]\n", f'[two]\n[alfa:2, seek, "goal=finish; when={when}", "", '
+                             'A, M]\n[alfa:82, watch, "", "", A, U]\n'
+                             '[omega:82, watch, "", "", R, L]\n[omega:2, seek, "", "", R, M]\n')
+    world = {"updates": [{"at": 300, "objectid": "Human/kid", "attributename": "poses",
+                          "policy": "R", "jsonmsg": {"positionrho": 0.5}}]}
+    session = Session([program(text, "two.script")], trace=Trace(), rules=library,
+                      scenario=scenario_from_data(world))
+    session.run(2000)
+    assert [e["t"] for e in session.trace.of_kind("cmd_stop")] == [300, 1300]
+    assert passes == [0, 300, 300]  # the start, the update, the seek's loop; not 1000
 
 
 # -- the run's status ---------------------------------------------------------------------------

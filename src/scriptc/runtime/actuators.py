@@ -79,16 +79,15 @@ class Actuators:
         self.world = world
         self.tracks = [Track(k) for k in range(3)]
         self.on_consumed: Callable[[int], None] | None = None  # when a block is consumed
-        self.block_active = False
-        self.consumed = True
+        self.block_active = False  # a block is issued and not yet consumed (nor cancelled)
         self._tick = 0  # generation of scheduled track events (stale ones are ignored)
         self.frozen = False
         self.hold = False
-        self.script_v = ZERO
-        self.script_moving = False
+        self.script_v = ZERO  # the running move command's velocity, while script_moving
+        self.script_moving = False  # a move command has the wheels
         self.driving = False
-        self.drive_v = ZERO
-        self._drive_gen = 0
+        self.drive_v = ZERO  # the operator's velocity, while driving
+        self._drive_gen = 0  # generation of timed drives (a replaced drive's end is stale)
         self.safety_held = False
         self.applied = ZERO
         self.led: tuple[float, float, float] | None = None
@@ -102,11 +101,12 @@ class Actuators:
 
     def issue(self, now: int, instruction: BlockCommands) -> None:
         """Start a block from its beginning (cancelling the one running, if any)."""
-        if self.block_active and not self.consumed:
+        # Every track is done here, and no event of an earlier block is live: a consumed
+        # block's tracks are all done, and cancelling one (below) or freezing it makes its
+        # queued events stale.
+        if self.block_active:
             self.cancel(now)
-        self._tick += 1
         self.block_active = True
-        self.consumed = False
         info = self.world.script
         info.submove = info.subled = info.subaout = 0
         for track in self.tracks:
@@ -116,8 +116,6 @@ class Actuators:
                 track.phase = "wait"
                 track.end = now + track.commands[0].wait_t
                 track.remaining = track.end - now
-            else:
-                track.phase = "done"
         if self._planner is not None:
             # The governor sees the block's move track ahead (its ramps are centred on the
             # changes): only while the script has the wheels.
@@ -141,7 +139,6 @@ class Actuators:
                 self._stop(track, now, cancelled=True)
             track.phase = "done"
         self.block_active = False
-        self.consumed = True
 
     def _on_track(self, now: int, arg: tuple[int, int]) -> bool:
         tick, k = arg
@@ -174,8 +171,7 @@ class Actuators:
                             (self._tick, track.index))
 
     def _check_consumed(self, now: int) -> None:
-        if self.block_active and not self.consumed and all(t.phase == "done" for t in self.tracks):
-            self.consumed = True
+        if self.block_active and all(t.phase == "done" for t in self.tracks):
             self.block_active = False
             if self.on_consumed is not None:
                 self.on_consumed(now)
@@ -204,7 +200,6 @@ class Actuators:
         if isinstance(command, Move):
             if self.script_moving:
                 self.script_moving = False
-                self.script_v = ZERO
                 self._apply_velocity(now, "script")
             robot.append("speed", {"xspeed": command.v_x, "yspeed": command.v_y,
                                    "thetaspeed": command.v_theta, "duration": ran,
@@ -261,7 +256,6 @@ class Actuators:
             # The running move command is cancelled (thesis 5.3). While the block is frozen
             # the operator drives "in a blocking way": the block resumes as it was.
             self.script_moving = False
-            self.script_v = ZERO
         self._apply_velocity(now, "operator")
         if duration is not None:
             self.queue.push(now + duration, PRIO_OPERATOR_TIMER, self._on_drive_end,
@@ -286,8 +280,7 @@ class Actuators:
                     track.remaining = track.end - now
             if self.audio is not None:
                 self.audio_paused = True
-        else:
-            self._tick += 1
+        else:  # (the freeze made every queued phase change stale: queue them again)
             self.audio_paused = False
             for track in self.tracks:
                 if track.phase != "done":
