@@ -63,3 +63,29 @@ def test_equal_values_hash_alike() -> None:
     assert hash(nodes.Number("1", span)) == hash(nodes.Number("1", span))
     assert nodes.Number("1", span) != nodes.Name("1", span)
     assert repr(nodes.Number("1", span)) == "Number(text='1', span=Span(start=1, end=2))"
+
+
+@pytest.mark.parametrize("cls", CLASSES, ids=lambda c: c.__name__)
+def test_methods_mean_what_a_frozen_dataclass_means(cls) -> None:
+    """`@node` writes the methods `@dataclass(frozen=True)` would, itself: the same meaning."""
+    fields = dataclasses.fields(cls)
+    values = [f"v{i}" for i in range(len(fields))]
+    made, same = cls(*values), cls(*values)
+    assert made == same and hash(made) == hash(same) == hash(tuple(values))
+    assert made.__eq__(tuple(values)) is NotImplemented and made != tuple(values)
+    for i in range(len(fields)):  # each field takes part in equality
+        other = cls(*values[:i], "changed", *values[i + 1:])
+        assert other != made and not other == made  # noqa: SIM201  # __eq__ itself
+    shown = ", ".join(f"{f.name}={v!r}" for f, v in zip(fields, values, strict=True))
+    assert repr(made) == f"{cls.__qualname__}({shown})"
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        delattr(made, fields[0].name)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        made.not_a_field = 1
+    for method in ("__init__", "__repr__", "__eq__", "__hash__", "__setattr__", "__delattr__"):
+        assert getattr(cls, method).__qualname__ == f"{cls.__qualname__}.{method}"
+    assert cls.__doc__  # written for a node without one: never computed from its signature
+
+
+def test_an_undocumented_node_is_named_by_its_fields() -> None:
+    assert nodes.Goal.__doc__ == "Goal(id, actions, span)"

@@ -118,6 +118,8 @@ def format_range(text: str, start: int, end: int) -> list[TextEdit]:
 
 @dataclass(slots=True)
 class _Region:
+    """A stretch of the file laid out as one: its old extent and its new text."""
+
     start: int
     end: int
     new: str

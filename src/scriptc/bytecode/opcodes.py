@@ -39,6 +39,8 @@ __all__ = [
 
 @dataclass(frozen=True, slots=True)
 class OperandKind:
+    """How an operand is stored and what the verifier demands of it."""
+
     name: str
     fmt: str  # struct code: "B" (u8) or "I" (u32)
     doc: str
@@ -72,6 +74,8 @@ KINDS: dict[str, OperandKind] = {
 
 @dataclass(frozen=True, slots=True)
 class Operand:
+    """One operand of an opcode: its name and its kind."""
+
     name: str
     kind: OperandKind
 
@@ -114,6 +118,8 @@ def _parse_stack(op: Opcode) -> tuple[tuple[str, ...], str | None, tuple[str, ..
 
 @dataclass(frozen=True, eq=False)  # compared and hashed by identity: one object per opcode
 class Opcode:
+    """An instruction of the table: number, mnemonic, operands, stack effect, placement."""
+
     code: int
     name: str
     operands: tuple[Operand, ...]

@@ -46,6 +46,8 @@ class MessageRecord:
 
 @dataclass(frozen=True, slots=True)
 class GoalRecord:
+    """A goal: its id (a text constant), how many action records follow as its own."""
+
     id: int  # text constant
     actions: int  # how many consecutive action records are this goal's
     span: Span
@@ -53,12 +55,16 @@ class GoalRecord:
 
 @dataclass(frozen=True, slots=True)
 class ActionRecord:
+    """An action: how many block records follow as its own."""
+
     blocks: int  # how many consecutive block records are this action's
     span: Span
 
 
 @dataclass(frozen=True, slots=True)
 class BlockRecord:
+    """A block: its kind, its label and the offset of its first instruction."""
+
     kind: str  # a letter of BLOCK_KINDS
     label: int | None  # text constant
     code: int  # offset of the block's first instruction
@@ -91,6 +97,8 @@ class _Lookups:
 
 @dataclass(frozen=True, slots=True)
 class Program:
+    """A program as the `.scb` file holds it: constants, messages, records, code."""
+
     name: int  # text constant: the activity name
     source: int | None  # text constant: the source file's name
     constants: tuple[Constant, ...]

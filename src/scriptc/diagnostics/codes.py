@@ -37,6 +37,8 @@ E, W, INFO = Severity.ERROR, Severity.WARNING, Severity.INFO
 
 @dataclass(frozen=True, slots=True)
 class Code:
+    """A code of the registry: its name, default severity and one-line summary."""
+
     code: str
     name: str
     severity: Severity

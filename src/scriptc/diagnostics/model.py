@@ -55,6 +55,8 @@ class Fix:
 
 @dataclass(frozen=True, slots=True)
 class Diagnostic:
+    """One problem found in a source: its code, severity, message and where it is."""
+
     code: str
     severity: Severity
     message: str

@@ -14,6 +14,8 @@ from dataclasses import dataclass
 
 @dataclass(frozen=True, slots=True)
 class Field:
+    """A field of a map class: its name, its type and what it holds."""
+
     name: str
     type: str  # "text", "number" or "bool" (the map's "s_true"/"s_false")
     doc: str
@@ -52,6 +54,8 @@ def field_of(class_name: str, field: str) -> Field | None:
 
 @dataclass(frozen=True, slots=True)
 class Param:
+    """A parameter of a function's signature: its name and what it means."""
+
     name: str
     doc: str
 

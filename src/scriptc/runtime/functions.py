@@ -66,6 +66,8 @@ class CallContext:
 
 @dataclass(frozen=True, slots=True)
 class FunctionImpl:
+    """A B/F/E function's implementation with its name, kind and arity."""
+
     name: str
     kind: str
     arity: int

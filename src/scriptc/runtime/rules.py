@@ -331,6 +331,8 @@ RuleFactory = Callable[[RuleMessage, dict[str, str]], Rule]
 
 @dataclass(frozen=True, slots=True)
 class RuleEntry:
+    """An entry of the rule library: rulecode, name, factory, where it comes from."""
+
     rulecode: int
     name: str
     factory: RuleFactory

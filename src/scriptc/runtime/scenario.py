@@ -84,6 +84,8 @@ class ScenarioError(Exception):
 
 @dataclass(frozen=True, slots=True)
 class TimedUpdate:
+    """A map update of a scenario and the time it is delivered at."""
+
     at: int
     update: MapUpdate
     index: int  # position in the file's `updates`
@@ -91,6 +93,8 @@ class TimedUpdate:
 
 @dataclass(frozen=True, slots=True)
 class OperatorEvent:
+    """An operator's joystick command of a scenario, at its time."""
+
     at: int
     command: str  # "safety_lock", "drive" or "interrupt"
     params: Record
@@ -99,6 +103,8 @@ class OperatorEvent:
 
 @dataclass
 class Scenario:
+    """A world file: timed map updates, operator events, placed entities."""
+
     path: str = ""  # as shown in traces and messages
     updates: list[TimedUpdate] = field(default_factory=list)
     operator: list[OperatorEvent] = field(default_factory=list)

@@ -25,6 +25,8 @@ from scriptc.runtime.world import Record
 
 @dataclass(frozen=True, slots=True)
 class PlacedEntity:
+    """A person, object or obstacle placed in the simulated world."""
+
     objectid: str
     x: float
     y: float

@@ -59,6 +59,8 @@ class ItemParser(Protocol):
 
 @dataclass(frozen=True, slots=True)
 class ParsedItem:
+    """One item's parse tree, with where the item is in the file."""
+
     tree: ParseTree
     base: int  # offset of the item's `[` in the file
     span: Span  # the whole item in the file
@@ -66,6 +68,8 @@ class ParsedItem:
 
 @dataclass(slots=True)
 class ParsedScript:
+    """Every item's tree, the comments and the syntax diagnostics of a file."""
+
     items: list[ParsedItem]
     comments: list[Span]
     diagnostics: list[Diagnostic]

@@ -46,6 +46,8 @@ MAX_SYNTAX_ERRORS = 100
 
 @dataclass(slots=True)
 class Scan:
+    """What the scanner found: items, comments, what no parser recovers from."""
+
     items: list[RawItem] = field(default_factory=list)
     comments: list[Span] = field(default_factory=list)
     diagnostics: list[Diagnostic] = field(default_factory=list)

@@ -85,6 +85,8 @@ class Window:
 
 @dataclass(frozen=True, slots=True)
 class EventExpectation:
+    """An `[[expect]]` on the trace's events: which, where, how many times."""
+
     index: int  # 0-based, in the file's order
     name: str
     span: Span  # the `[[expect]]` table
@@ -116,6 +118,8 @@ class PoseExpectation:
 
 @dataclass(frozen=True, slots=True)
 class StateExpectation:
+    """An `[[expect]]` on the state at a time (or at the end)."""
+
     index: int
     name: str
     span: Span
@@ -132,6 +136,8 @@ class StateExpectation:
 
 @dataclass(frozen=True, slots=True)
 class SessionExpectation:
+    """An `[[expect]]` on how the session ends and how long it lasts."""
+
     index: int
     name: str
     span: Span
@@ -142,6 +148,8 @@ class SessionExpectation:
 
 @dataclass(frozen=True, slots=True)
 class DistanceExpectation:
+    """An `[[expect]]` on the robot's distance to an entity."""
+
     index: int
     name: str
     span: Span
