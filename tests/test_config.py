@@ -244,12 +244,34 @@ def test_the_candidates_stop_at_the_nearest_configuration(tmp_path: Path) -> Non
     ('[project]\nname = "scriptc"\n[project.scripts]\nscriptc = "scriptc.cli.main:main"\n', False),
     ("[tool.ruff]\nline-length = 99\n", False),
     ("[tool.scriptc\nbroken", True),  # broken, but ours: its error is reported
+    ('[tool]\nscriptc.audio-root = "a"\n', True),
+    ('[tool]\n"scriptc" . lint . ignore = []\n', True),
+    ("[tool]\n'scriptc'.audio-root = 'a'\n", True),
 ])
 def test_which_pyproject_files_configure_scriptc(tmp_path: Path, text: str,
                                                  configures: bool) -> None:
     (tmp_path / "pyproject.toml").write_text(text)
     found = find_config(str(tmp_path))
     assert (found == str(tmp_path / "pyproject.toml")) is configures
+
+
+@pytest.mark.parametrize("text", [
+    '[tool.mypy]\nmodules = [\n    "scriptc.ir.*", "scriptc.check.*",\n]\n',
+    '[project.scripts]\nscriptc = "scriptc.cli.main:main"\n',
+    '[tool.importlinter]\nlayers = [\n    "scriptc.cli | scriptc.api",\n]\n',
+])
+def test_a_pyproject_that_only_names_modules_of_scriptc_is_not_parsed(
+        tmp_path: Path, text: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Parsing TOML is most of a cold start's configuration cost: a file that cannot hold the
+    table (scriptc's own pyproject.toml, say) is passed over on sight."""
+    import tomllib
+
+    def refuse(_text: str) -> None:
+        raise AssertionError("parsed")
+
+    monkeypatch.setattr(tomllib, "loads", refuse)
+    (tmp_path / "pyproject.toml").write_text(text)
+    assert find_config(str(tmp_path)) != str(tmp_path / "pyproject.toml")
 
 
 def test_a_pyproject_table_is_read_with_its_prefix(tmp_path: Path) -> None:

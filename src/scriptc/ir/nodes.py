@@ -16,10 +16,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import MISSING, FrozenInstanceError, dataclass, fields, is_dataclass
+from operator import attrgetter
 from types import FunctionType
-from typing import TypeAlias, TypeVar, dataclass_transform
+from typing import TYPE_CHECKING, TypeAlias, TypeVar, cast, dataclass_transform
 
 from scriptc.source import Span
+
+if TYPE_CHECKING:
+    from collections.abc import Callable
 
 _Node = TypeVar("_Node")
 
@@ -38,14 +42,14 @@ def node(cls: type[_Node]) -> type[_Node]:
     """A frozen, slotted dataclass, built faster than `@dataclass(frozen=True, slots=True)`.
 
     `dataclass` is asked only for the fields and the slots (`dataclasses.fields` and `replace`
-    work); the methods a frozen dataclass has are generated here, in one `exec` per class
-    instead of six (making a class is on every command's import path: a fifth of a cold
-    `scriptc lint`), with the same meaning: `__init__` (positional or by name, defaults),
-    `__repr__`, `__eq__` and `__hash__` by the fields' values in order, and `__setattr__` and
-    `__delattr__` raising `FrozenInstanceError`. `__init__` calls each slot's own setter:
-    the dataclass one goes through `object.__setattr__` for every field, a third of the cost of
-    lowering a large script. Fields may have plain defaults (no factories, no
-    `__post_init__`)."""
+    work); the methods a frozen dataclass has are made here with the same meaning: `__init__`
+    (positional or by name, defaults), `__repr__`, `__eq__` and `__hash__` by the fields'
+    values in order, and `__setattr__` and `__delattr__` raising `FrozenInstanceError`. Making
+    the classes is on every command's import path, and `dataclass` compiles six functions for
+    each (a fifth of a cold `scriptc lint`): here only `__init__` is compiled, the others are
+    closures over the field names. `__init__` calls each slot's own setter: the dataclass one
+    goes through `object.__setattr__` for every field, a third of the cost of lowering a large
+    script. Fields may have plain defaults (no factories, no `__post_init__`)."""
     undocumented = cls.__doc__ is None
     if undocumented:  # else dataclass would compute the class's signature: slow, at import
         cls.__doc__ = cls.__name__
@@ -53,7 +57,7 @@ def node(cls: type[_Node]) -> type[_Node]:
     assert is_dataclass(cls)
     names: list[str] = []
     params: list[str] = []
-    namespace: dict[str, object] = {"Frozen": FrozenInstanceError}
+    namespace: dict[str, object] = {}
     for i, f in enumerate(fields(cls)):
         if f.default_factory is not MISSING:
             raise TypeError(f"{cls.__name__}.{f.name}: only plain fields and defaults")
@@ -64,35 +68,52 @@ def node(cls: type[_Node]) -> type[_Node]:
         else:
             namespace[f"default_{i}"] = f.default
             params.append(f"{f.name}=default_{i}")
-    values = "".join(f"self.{n}," for n in names)
-    other = "".join(f"other.{n}," for n in names)
-    shown = ", ".join(f"{n}={{self.{n}!r}}" for n in names)
-    code = "\n".join([
-        f"def __init__(self, {', '.join(params)}):",
-        *[f"    set_{i}(self, {n})" for i, n in enumerate(names)],
-        "def __repr__(self):",
-        f"    return f'{{type(self).__qualname__}}({shown})'",
-        "def __eq__(self, other):",
-        "    if other.__class__ is not self.__class__:",
-        "        return NotImplemented",
-        f"    return ({values}) == ({other})",
-        "def __hash__(self):",
-        f"    return hash(({values}))",
-        "def __setattr__(self, name, value):",
-        "    raise Frozen(f'cannot assign to field {name!r}')",
-        "def __delattr__(self, name):",
-        "    raise Frozen(f'cannot delete field {name!r}')",
-    ])
+    code = "\n".join([f"def __init__(self, {', '.join(params)}):",
+                      *[f"    set_{i}(self, {n})" for i, n in enumerate(names)]])
     exec(code, namespace)  # (code generated from the class's field names only)
-    for method in ("__init__", "__repr__", "__eq__", "__hash__", "__setattr__", "__delattr__"):
-        function = namespace[method]
+    methods = {"__init__": namespace["__init__"], **_methods(tuple(names))}
+    for name, function in methods.items():
         assert isinstance(function, FunctionType)
-        function.__qualname__ = f"{cls.__qualname__}.{method}"
-        setattr(cls, method, function)
+        function.__qualname__ = f"{cls.__qualname__}.{name}"
+        setattr(cls, name, function)
     if undocumented:  # what dataclass writes: the name and the fields
-        cls.__doc__ = f"{cls.__name__}({', '.join(params)})"
+        cls.__doc__ = f"{cls.__name__}({', '.join(names)})"
     cls.__dataclass_params__ = _FROZEN  # type: ignore[attr-defined]  # what dataclass would say
     return cls
+
+
+def _methods(names: tuple[str, ...]) -> dict[str, object]:
+    """A node class's methods but `__init__`, over its field names."""
+    values: Callable[[object], tuple[object, ...]]
+    if len(names) == 1:
+        get_one = attrgetter(names[0])
+
+        def values(node: object) -> tuple[object, ...]:
+            return (get_one(node),)
+    else:  # a tuple of the values, made in C
+        values = cast("Callable[[object], tuple[object, ...]]", attrgetter(*names))
+
+    def __repr__(self: object) -> str:
+        shown = ", ".join(f"{name}={value!r}"
+                          for name, value in zip(names, values(self), strict=True))
+        return f"{type(self).__qualname__}({shown})"
+
+    def __eq__(self: object, other: object) -> bool:
+        if other.__class__ is not self.__class__:
+            return NotImplemented
+        return bool(values(self) == values(other))
+
+    def __hash__(self: object) -> int:
+        return hash(values(self))
+
+    def __setattr__(self: object, name: str, value: object) -> None:
+        raise FrozenInstanceError(f"cannot assign to field {name!r}")
+
+    def __delattr__(self: object, name: str) -> None:
+        raise FrozenInstanceError(f"cannot delete field {name!r}")
+
+    return {"__repr__": __repr__, "__eq__": __eq__, "__hash__": __hash__,
+            "__setattr__": __setattr__, "__delattr__": __delattr__}
 
 
 # ---------------------------------------------------------------------------------------------

@@ -57,8 +57,10 @@ def _read(path: str) -> bytes | None:
 
 # What a pyproject.toml configuring scriptc must contain: `[tool.scriptc...]`, a dotted key
 # `tool.scriptc.x = `, or `scriptc = {` / `scriptc.x = ` under `[tool]`. A file with none of
-# these is not parsed at all (tomllib costs 8 ms of cold start).
-_MAYBE_TOOL = rb"tool\s*\.\s*[\"']?scriptc\b|^\s*[\"']?scriptc[\"']?\s*(=\s*\{|\.)"
+# these is not parsed at all (tomllib costs 8 ms of cold start). A string in an array that
+# starts with `"scriptc.` (mypy's and import-linter's module lists) is not such a key.
+_MAYBE_TOOL = (rb"tool\s*\.\s*[\"']?scriptc\b"
+               rb"|^\s*(?:scriptc|\"scriptc\"|'scriptc')\s*(?:=\s*\{|\.[^=\n]*=)")
 
 
 def _pyproject_names_scriptc(data: bytes) -> bool:
