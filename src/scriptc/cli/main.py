@@ -30,6 +30,8 @@ VERBS: dict[str, tuple[str, str]] = {
     "lsp": ("scriptc.cli.lsp", "Run the language server (LSP over stdin/stdout)."),
     "run": ("scriptc.cli.run", "Run scripts in simulated time (with a scenario, a trace)."),
     "test": ("scriptc.cli.test", "Run the tests of an activity (*.test.toml) in simulated time."),
+    "verify": ("scriptc.cli.verify",
+               "Prove or refute what every run of a script does, for every world."),
     "merge": ("scriptc.cli.merge", "Merge the outputs of test shards (JUnit XML) into one."),
     "dis": ("scriptc.cli.dis", "Print the listing of a bytecode (.scb) file."),
     "fmt": ("scriptc.cli.fmt", "Format scripts in the canonical layout, comments kept."),

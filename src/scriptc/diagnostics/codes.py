@@ -16,6 +16,7 @@ links keep working. Families:
 - C  configuration (`scriptc.toml`, `[tool.scriptc]`) and suppression comments
 - K  safety against the robot profile (speeds, flashing LEDs)
 - T  test files (`*.test.toml`) and the expectations their runs do not meet (`scriptc test`)
+- Y  verification: what `scriptc verify` proves or refutes of every run (verify/)
 - X  run time: the `error` events of a run's trace (`scriptc run`, docs/runtime.md), which
      carry the code's name (`"code": "mutex-misuse"`); an error stops the run, a warning does
      not. `at_run_time` codes are never reported by lint (`lint_codes()` leaves them out).
@@ -146,6 +147,18 @@ _CODES = (
     Code("T006", "expectation-failed", E, "the run of a test did not do what an `[[expect]]` says"),
     Code("T007", "snapshot-differs", E,
          "the trace of a test with `snapshot = true` is not its snapshot file, or there is none"),
+    # Y: what `scriptc verify` proves or refutes over every world (verify/, docs/verify.md)
+    Code("Y001", "waits-forever", E,
+         "a world can keep the robot in a loop forever: the activity may never end"),
+    Code("Y002", "cycle-without-time", E,
+         "a run can go round blocks without time passing: the session stops with an error"),
+    Code("Y003", "goal-never-reached", E, "no world reaches a goal of the activity"),
+    Code("Y004", "block-never-read", E, "no world leads the block reader to a block"),
+    Code("Y005", "needs-governor", E,
+         "a run reads a block that the safety governor must correct (speed, ramps, flashing)"),
+    Code("Y006", "not-decided", W,
+         "verify could not decide a property: a bound was reached, or a run it found could not "
+         "be replayed"),
     # X: run time (the trace's `error` events carry the name; runtime/status.py)
     Code("X001", "mutex-misuse", W,
          "rule messages misuse the map's mutex at run time (a script that was not checked)",

@@ -92,6 +92,19 @@ class IRProgram:
     def executor(self) -> IRExecutor:
         return IRExecutor(self)
 
+    def target(self, name: ir.Name | None, i: int) -> int:
+        """Where the jump at block `i` goes to the block labelled `name`: its index (the
+        first block carrying the label), or `i + 1` for an empty target (the block count
+        when that is past the last block). The one reading of a jump's target: the block
+        reader here and `scriptc verify` follow it."""
+        if name is None or not name.text:
+            return i + 1
+        j = self.labels.get(name.text)
+        if j is None:
+            raise JumpTargetError(f"the jump at {BlockAddress(*self.blocks[i][0]).path} "
+                                  f"names label `{name.text}`, which no block carries")
+        return j
+
 
 class IRExecutor(ExecutorBase[IRProgram]):
     """Block reading over the IR (the `Executor` interface)."""
@@ -106,15 +119,6 @@ class IRExecutor(ExecutorBase[IRProgram]):
 
     def seek(self, position: BlockAddress) -> None:
         self._next = self._index_of(position)
-
-    def _target(self, name: ir.Name | None, i: int) -> int:
-        if name is None or not name.text:
-            return i + 1
-        j = self.program.labels.get(name.text)
-        if j is None:
-            raise JumpTargetError(f"the jump at {BlockAddress(*self.program.blocks[i][0]).path} "
-                                  f"names label `{name.text}`, which no block carries")
-        return j
 
     def read(self, ctx: EvalContext, sink: ReadSink,
              max_blocks: int = MAX_BLOCKS_PER_READ) -> ReadResult:
@@ -136,7 +140,8 @@ class IRExecutor(ExecutorBase[IRProgram]):
             if isinstance(block, ir.JumpBlock):
                 ctx.begin(READER, ctx.now)
                 evaluation = evaluate(block.condition, ctx)
-                j = self._target(block.true_target if evaluation.value else block.false_target, i)
+                target = block.true_target if evaluation.value else block.false_target
+                j = self.program.target(target, i)
                 sink.jump(position, self.program.conditions[i], evaluation,
                           BlockAddress(*blocks[j][0]) if j < n else None)
                 i = j

@@ -1,0 +1,355 @@
+"""How a jump's condition can come out, as the exploration sees it (docs/verify.md, "What is
+exact and what is the world's").
+
+A condition is read part by part, as the evaluator (`runtime/evaluate.py`) runs it: its
+assignments left to right, then its evaluations up to a `{TRUE}`. Each part is one of:
+
+- **constant**: true or false whatever happens (`{TRUE}`, a comparison of two constants, a
+  CLASS test on the Activity's `startingtime`, a field the class never has);
+- **timed**: decided by the robot's own clock, the running Activity's `elapsedtime`, compared
+  with a number (in a CLASS `#Activity` assignment's tests or an E comparison of its alias):
+  true exactly at a set of instants (`TimeSet`);
+- **free**: the world's (an entity of the map: a Human, an Object, an Obstacle, their fields,
+  a VAR or an ATT holding what was read from them, `goalreached`, which a sensor may record),
+  or what verify does not model (a repository's own functions): either outcome is possible.
+
+The whole condition is true when every part is (the evaluator stops at the first that fails),
+so it can be true at the instants every timed part allows (unless a part is constant false or
+a free part can never hold), and false at the instants some part can fail. A condition with no
+free part is decided by the time alone: `Outcomes.world` is False and the two sets partition
+time. This over-approximates what a world can do (each free part is taken as free on its own);
+what verify claims exists is confirmed by replaying a concrete world (`verify/witness.py`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+from scriptc.ir import nodes as ir
+from scriptc.ir.walk import ConditionVisitor
+from scriptc.runtime.commands import Value, as_number, compare
+from scriptc.source import Span
+from scriptc.verify.timeset import TimeSet
+
+if TYPE_CHECKING:
+    from scriptc.runtime.functions import Implementations
+
+__all__ = ["ALWAYS", "NEVER", "Outcomes", "Part", "outcomes_of"]
+
+# The standard comparisons, which verify computes itself when their operands are known.
+_COMPARISONS = {
+    "eq": lambda c: c == 0,
+    "neq": lambda c: c != 0,
+    "lt": lambda c: c < 0,
+    "gt": lambda c: c > 0,
+    "le": lambda c: c <= 0,
+    "ge": lambda c: c >= 0,
+}
+_OPS = {"OP=": "eq", "OP<": "lt", "OP>": "gt"}
+# Comparisons with the operands swapped (`c OP elapsed` is `elapsed OP' c`).
+_SWAPPED = {"eq": "eq", "neq": "neq", "lt": "gt", "gt": "lt", "le": "ge", "ge": "le"}
+
+ALWAYS = TimeSet.all()
+NEVER = TimeSet.empty()
+
+
+class _Top:
+    """A value verify does not know: the world's, or what a function returns."""
+
+    __repr__ = lambda self: "TOP"  # noqa: E731  # (a one-line repr for debugging)
+
+
+class _Elapsed:
+    """The running Activity's `elapsedtime`: the instant minus the script's start."""
+
+    __repr__ = lambda self: "ELAPSED"  # noqa: E731
+
+
+TOP = _Top()
+ELAPSED = _Elapsed()
+
+
+@dataclass(frozen=True, slots=True)
+class Const:
+    """A value known before the run: a number, a text, or missing (None)."""
+
+    value: Value
+
+
+Abstract = Const | _Top | _Elapsed
+
+
+@dataclass(frozen=True, slots=True)
+class Part:
+    """One part of a condition and how it can come out: `true_at` and `false_at` are the
+    instants (session times) at which it can be true and false; `world` is True when it is
+    the world's (either outcome), `what` says what it is, for explanations."""
+
+    true_at: TimeSet
+    false_at: TimeSet
+    world: bool
+    what: str
+    span: Span | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class Outcomes:
+    """How a whole condition can come out: at which instants it can be true and false, and
+    whether the world decides it (some part is free). `parts` are its parts up to a `{TRUE}`."""
+
+    true_at: TimeSet
+    false_at: TimeSet
+    world: bool
+    parts: tuple[Part, ...]
+
+    @property
+    def timed(self) -> bool:
+        """Whether the time decides some part (the outcome depends on when it is read)."""
+        return any(not p.world and p.true_at != ALWAYS and p.true_at != NEVER
+                   for p in self.parts)
+
+
+def _constant(value: bool, what: str, span: Span | None = None) -> Part:
+    return Part(ALWAYS if value else NEVER, NEVER if value else ALWAYS, False, what, span)
+
+
+def _free(what: str, span: Span | None = None) -> Part:
+    return Part(ALWAYS, ALWAYS, True, what, span)
+
+
+def _timed(at: TimeSet, what: str, span: Span | None = None) -> Part:
+    return Part(at, ALWAYS - at, False, what, span)
+
+
+def elapsed_compared(test: str, number: float, start: int = 0) -> TimeSet:
+    """The instants `t >= 0` at which `elapsed OP number` holds, `elapsed` being `t - start`
+    and `test` one of the standard comparisons (`gt`: elapsed > number). Exact for whole
+    milliseconds: `elapsed > 20000.5` from 20001 on."""
+    if test == "eq":
+        at = TimeSet.point(int(number)) if number == int(number) else NEVER
+    elif test == "neq":
+        at = ALWAYS - (TimeSet.point(int(number)) if number == int(number) else NEVER)
+    elif test in ("gt", "ge"):
+        # elapsed > n from floor(n) + 1; elapsed >= n from ceil(n)
+        first = math.floor(number) + 1 if test == "gt" else math.ceil(number)
+        at = TimeSet.interval(max(first, 0), None) if first >= 0 else ALWAYS
+    else:  # lt, le: elapsed < n up to ceil(n) - 1; elapsed <= n up to floor(n)
+        last = math.ceil(number) - 1 if test == "lt" else math.floor(number)
+        at = TimeSet.interval(0, last) if last >= 0 else NEVER
+    return at.shift(start) if start else at
+
+
+class _Reader(ConditionVisitor):
+    """The parts of one condition (see the module's docstring)."""
+
+    def __init__(self, functions: Implementations | None, standard: Implementations,
+                 activity: str, exact_activity: bool) -> None:
+        self.functions = functions
+        self.standard = standard
+        self.activity = activity  # the running script's name: its Activity's `activityid`
+        self.exact_activity = exact_activity
+        self.aliases: dict[str, str] = {}  # alias -> class, bound in this condition
+
+    # -- values ---------------------------------------------------------------------------------
+
+    def visit_number(self, value: ir.NumberValue, this: str | None) -> Abstract:
+        v = value.number.value
+        return Const(v if v is not None and math.isfinite(v) else None)
+
+    def visit_string(self, value: ir.StringValue, this: str | None) -> Abstract:
+        return Const(value.text.value)
+
+    def visit_alias(self, value: ir.AliasRef, this: str | None) -> Abstract:
+        return TOP
+
+    def visit_field(self, value: ir.FieldRef, this: str | None) -> Abstract:
+        alias = value.alias.name.text
+        cls = this if alias == "?THIS" else self.aliases.get(alias)
+        if cls == "Activity" and self.exact_activity:
+            return self._activity_field(value.field.text)
+        return TOP
+
+    def visit_att(self, value: ir.AttRef, this: str | None) -> Abstract:
+        return TOP
+
+    def visit_var(self, value: ir.VarRef, this: str | None) -> Abstract:
+        return TOP
+
+    def _activity_field(self, name: str) -> Abstract:
+        if name == "elapsedtime":
+            return ELAPSED
+        if name == "startingtime":
+            return Const(0.0)
+        if name in ("activityid", "id"):
+            return Const(self.activity)
+        return Const(None)  # a field an Activity never has: missing
+
+    # -- comparisons ----------------------------------------------------------------------------
+
+    def _compare(self, test: str, a: Abstract, b: Abstract, what: str, span: Span) -> Part:
+        if isinstance(a, Const) and isinstance(b, Const):
+            c = compare(a.value, b.value)
+            return _constant(c is not None and _COMPARISONS[test](c), what, span)
+        if isinstance(b, _Elapsed) and isinstance(a, Const):
+            a, b, test = b, a, _SWAPPED[test]
+        if isinstance(a, _Elapsed) and isinstance(b, Const):
+            number = as_number(b.value)
+            if b.value is None:
+                return _constant(False, what, span)  # no comparison with a missing value holds
+            if number is not None:
+                return _timed(elapsed_compared(test, number), what, span)
+        return _free(what, span)
+
+    def _standard(self, name: str) -> bool:
+        """Whether `name` runs the standard implementation (a repository may not redefine
+        it, but verify does not rely on that)."""
+        if name not in _COMPARISONS:
+            return False
+        ours = self.standard.get(name)
+        theirs = ours if self.functions is None else self.functions.get(name)
+        return ours is not None and theirs is ours
+
+    # -- parts ----------------------------------------------------------------------------------
+
+    def visit_class_assignment(self, a: ir.ClassAssignment) -> Part:
+        cls = a.class_name.text
+        alias = a.alias.name.text
+        what = f"an entity of class `{cls}` that passes its tests"
+        if cls != "Activity":
+            self.aliases[alias] = cls
+            if _contradictory(a.tests):
+                return _constant(False, f"no `{cls}` can pass these tests", a.span)
+            return _free(f"whether the world holds {what}", a.span)
+        self.aliases[alias] = cls
+        if not self.exact_activity:
+            return _free("which Activity the alias names (several aliases name one)", a.span)
+        parts = [self.visit(t, cls) for t in a.tests]
+        return _conjunction(parts, f"the running activity passes its tests ({alias})", a.span)
+
+    def visit_field_test(self, t: ir.FieldTest, this: str) -> Part:
+        what = f"`?THIS>&{t.field.text} {t.op.text} ...`"
+        left = self._activity_field(t.field.text)
+        right = self.visit(t.value, this)
+        return self._compare(_OPS[t.op.text], left, right, what, t.span)
+
+    def visit_call_test(self, t: ir.CallTest, this: str) -> Part:
+        return _free(f"what `{t.call.name.text}` says of the activity", t.span)
+
+    def visit_var_assignment(self, a: ir.VarAssignment) -> Part:
+        name = a.call.name.text
+        if name == "now" and self._runs_standard("now"):
+            return _constant(True, f"`{a.var.name.text}` takes the time", a.span)
+        if name == "str" and self._runs_standard("str") and a.call.args:
+            value = self.visit(a.call.args[0], None)
+            if isinstance(value, Const):
+                return _constant(value.value is not None, f"`{a.var.name.text}` takes a text",
+                                 a.span)
+            if isinstance(value, _Elapsed):
+                return _constant(True, f"`{a.var.name.text}` takes the elapsed time", a.span)
+        return _free(f"whether `{name}` gives `{a.var.name.text}` a value", a.span)
+
+    def visit_att_assignment(self, a: ir.AttAssignment) -> Part:
+        return _free(f"whether `{a.alias.name.text}` is bound and `{a.call.name.text}` gives "
+                     "a value", a.span)
+
+    def visit_call_evaluation(self, e: ir.CallEvaluation) -> Part:
+        call = e.call
+        name = call.name.text
+        if self._standard(name) and len(call.args) == 2:
+            a, b = (self.visit(v, None) for v in call.args)
+            return self._compare(name, a, b, f"`{name}(...)`", e.span)
+        if name == "goalreached":
+            return _free("`goalreached` (a sensor may record a goal as reached)", e.span)
+        return _free(f"what `{name}` says", e.span)
+
+    def _runs_standard(self, name: str) -> bool:
+        ours = self.standard.get(name)
+        theirs = ours if self.functions is None else self.functions.get(name)
+        return ours is not None and theirs is ours
+
+
+def _conjunction(parts: list[Part], what: str, span: Span) -> Part:
+    """The parts all hold (a CLASS assignment's tests, or a whole condition)."""
+    true_at, false_at, world = ALWAYS, NEVER, False
+    for p in parts:
+        true_at = true_at & p.true_at
+        false_at = false_at | p.false_at
+        world = world or p.world
+    return Part(true_at, false_at, world, what, span)
+
+
+def _contradictory(tests: tuple[ir.Test, ...]) -> bool:
+    """Whether no entity can pass every test: comparisons of one field with numbers that no
+    number satisfies together (`< 1` and `> 2`, `B: near(1)` and `positionrho OP> 3`), or
+    equalities with two different values. Anything else an entity of the world can pass."""
+    low: dict[str, tuple[float, bool]] = {}  # field -> (bound, strict)
+    high: dict[str, tuple[float, bool]] = {}
+    equal: dict[str, Value] = {}
+    for test in tests:
+        if isinstance(test, ir.CallTest):
+            call = test.call
+            if call.name.text == "near" and len(call.args) == 1 \
+                    and isinstance(call.args[0], ir.NumberValue):
+                limit = call.args[0].number.value
+                if limit is not None and math.isfinite(limit):
+                    _bound(high, "positionrho", limit, True, upper=True)
+            continue
+        value, field, op = test.value, test.field.text, test.op.text
+        if isinstance(value, ir.NumberValue):
+            number = value.number.value
+            if number is None or not math.isfinite(number):
+                continue
+            if op == "OP<":
+                _bound(high, field, number, True, upper=True)
+            elif op == "OP>":
+                _bound(low, field, number, True, upper=False)
+            else:
+                if field in equal and compare(equal[field], number) != 0:
+                    return True
+                equal[field] = number
+                _bound(low, field, number, False, upper=False)
+                _bound(high, field, number, False, upper=True)
+        elif isinstance(value, ir.StringValue) and op == "OP=":
+            text = value.text.value
+            if field in equal and compare(equal[field], text) != 0:
+                return True
+            equal[field] = text
+    for field, (lo, lo_strict) in low.items():
+        if field in high:
+            hi, hi_strict = high[field]
+            if lo > hi or (lo == hi and (lo_strict or hi_strict)):
+                return True
+    return False
+
+
+def _bound(table: dict[str, tuple[float, bool]], field: str, value: float, strict: bool, *,
+           upper: bool) -> None:
+    """Tighten the bound of `field` (an upper bound when `upper`, else a lower one)."""
+    old = table.get(field)
+    if old is None or (value < old[0] if upper else value > old[0]):
+        table[field] = (value, strict)
+    elif value == old[0]:
+        table[field] = (value, strict or old[1])
+
+
+def outcomes_of(condition: ir.Condition, *, activity: str, exact_activity: bool = True,
+                functions: Implementations | None = None) -> Outcomes:
+    """How `condition`, read by the block reader of the script `activity`, can come out (see
+    the module's docstring). `exact_activity` is False when the script names the Activity by
+    several aliases (one alias per entity may then refuse the second: verify leaves it to
+    the world); `functions` are the implementations a run uses (None: the standard ones)."""
+    from scriptc.runtime.functions import STANDARD_IMPLEMENTATIONS
+
+    if condition.is_constant_true:
+        part = _constant(True, "`{TRUE}`", condition.span)
+        return Outcomes(ALWAYS, NEVER, False, (part,))
+    reader = _Reader(functions, STANDARD_IMPLEMENTATIONS, activity, exact_activity)
+    parts: list[Part] = [reader.visit(a) for a in condition.assignments]
+    for evaluation in condition.evaluations:
+        if isinstance(evaluation, ir.TrueEvaluation):
+            break
+        parts.append(reader.visit(evaluation))
+    whole = _conjunction(parts, "the condition", condition.span)
+    return Outcomes(whole.true_at, whole.false_at, whole.world, tuple(parts))
