@@ -96,3 +96,37 @@ def varied_script(blocks: int, seed: int) -> str:
         out.append(f"    [b#{label}#blk_inst: MV({moves}) LD({leds}) AO({audio})]{comment}\n")
     out.append("    [b#end#blk_terminus]\n")
     return "".join(out)
+
+
+def waiting_script(actions: int, *, period: int = 500, timeout: int = 30_000) -> str:
+    """An activity of `actions` actions of 10 blocks each, 10 actions to a goal (the script
+    of `bench_verify.py`): each action prompts, then waits in a loop for a child to come near,
+    left when the activity's elapsed time passes the action's deadline (`timeout` ms per
+    action, cumulative: the k-th action's is (k + 1) * timeout), then branches forward on
+    where the child stands (to the left or in front) before the next action. Every block is
+    read in some world and every goal reached; the session ends by a terminus."""
+    out = ["[waiting_activity]\n",
+           '[alfa:1, guard, "distance=0.5", "", A, U]\n',
+           '[omega:1, guard, "", "", R, L]\n']
+    for k in range(actions):
+        if k % 10 == 0:
+            out.append(f"[goal:round{k // 10}]\n")
+        deadline = (k + 1) * timeout
+        out += [
+            "  [action]\n",
+            f'    [b#a{k}#blk_inst: MV() LD("0.2, 0.4, 0.9, 1, 0, {period}") AO()]\n',
+            f'    [b#w{k}#blk_inst: MV() LD("0.9, 0.6, 0.3, 1, 0, {period}") AO()]\n',
+            f"    [b##blk_jump: CND({{CLASS #Human U ?kid (B: near(1.0))}} ! {{TRUE}}) "
+            f"TRJMP(c{k}) FLSJMP()]\n",
+            f"    [b##blk_jump: CND({{CLASS #Activity T ?me (?THIS>&elapsedtime OP> {deadline})}}"
+            f" ! {{TRUE}}) TRJMP(t{k}) FLSJMP(w{k})]\n",
+            f"    [b#c{k}#blk_jump: CND({{CLASS #Human U ?kid (?THIS>&positiontheta OP> 0.3)}}"
+            f" ! {{TRUE}}) TRJMP(l{k}) FLSJMP()]\n",
+            f'    [b##blk_inst: MV() LD("0.2, 0.8, 0.3, 1, 0, 1000") AO()]\n',
+            f"    [b##blk_jump: CND({{TRUE}}) TRJMP(n{k}) FLSJMP()]\n",
+            f'    [b#l{k}#blk_inst: MV() LD("0.3, 0.8, 0.2, 1, 0, 700") AO()]\n',
+            f'    [b#t{k}#blk_inst: MV() LD("0.1, 0.2, 0.4, 1, 0, {period}") AO()]\n',
+            f'    [b#n{k}#blk_sens: "next"]\n',
+        ]
+    out.append("[goal:closing]\n  [action]\n    [b#end#blk_terminus]\n")
+    return "".join(out)

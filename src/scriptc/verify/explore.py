@@ -4,69 +4,93 @@ every world (docs/verify.md, "The method").
 The robot's side is exact: an instruction block issued at `t` is consumed at `t + length`,
 reading the next blocks takes no time, a jump decided by the clock goes where the clock says.
 The world's side is free: a jump the world decides goes both ways. What is computed for each
-block is a `TimeSet`, the exact set of instants the reader can arrive there, grown by a
-worklist of *records*: each record is a set of instants newly known at one block, with the
-record it came from (so a run to any instant can be written out again, `trail`).
+block is a `TimeSet`, the exact set of instants the reader can arrive there. It grows by
+*records*: a record is a set of instants newly known at one block, made from the moves that
+led there (its *sources*, each from an earlier record), so that a run to any instant can be
+written out again (`trail`). Blocks are taken earliest instant first, and what arrives at a
+block before it is taken is merged into one record.
 
-A loop that waits is not unrolled: when a record comes back to a block it descends from after
-`d` ms, the same path can be taken again and again for as long as every timed jump on it
-keeps its outcome (each instant moves by `d` with every turn, and the clock's thresholds say
-how many turns stay on the same side of every one of them): the turns are added at once
-(`TimeSet.repeat`), one record, whatever the wait's length, and without end when no threshold
-is ever crossed (a loop the world can keep going forever). This is exact: every instant added
-is one a run reaches by that path.
+A loop that waits is not unrolled. The cycles of the script are found once (`cycles`): from a
+loop's head (a block some later block jumps back to), each path that comes back to it, with
+its length in ms and the timed jumps on it. When a record is made at a head, each cycle is
+taken as many turns as every timed jump on it keeps the outcome the cycle needs (each turn
+moves every instant by the cycle's length, and the clock's thresholds say how many turns stay
+on the same side of every one of them): the turns are added at once (`TimeSet.repeat`),
+whatever the wait's length, and without end when no threshold is ever crossed (a loop the world
+can keep going forever). This is exact: every instant added is one a run reaches by that path.
 
-Two loops that no instant distinguishes are not found this way (a loop with two paths of
-different lengths): they are followed turn by turn, up to the exploration's bound
-(`max_records`), past which the answer is `unknown`.
+What no cycle covers is followed turn by turn (two loops whose lengths differ, turning into each
+other without end), up to the exploration's bound (`max_records`), past which the answer is
+`unknown`.
 """
 
 from __future__ import annotations
 
+import heapq
 import time
-from collections import deque
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 
+from scriptc.verify.conditions import ALWAYS
 from scriptc.verify.model import INSTRUCTION, JUMP, SENSOR, TERMINUS, Model
 from scriptc.verify.timeset import TimeSet, TooComplex
 
-__all__ = ["ENDED", "Exploration", "Loop", "Reach", "Record", "Visit", "explore", "trail"]
+__all__ = ["ENDED", "Cycle", "Exploration", "Reach", "Record", "Source", "Visit", "cycles",
+           "explore", "trail"]
 
 ENDED = -1  # the node of a record that says when the script ends
 
-# How far back a record's ancestors are searched for the same block (a loop's length).
-LOOP_SEARCH = 200
 # The default bound on records (each a set of instants at one block).
 MAX_RECORDS = 2_000_000
+# Cycles looked for from one head, and their greatest length in blocks.
+MAX_CYCLES = 8
+MAX_CYCLE_BLOCKS = 64
 
 
-@dataclass(slots=True, eq=False)
-class Loop:
-    """The turns of a loop added at once: `path` the records of one turn (the last at the
-    block the loop comes back to), `period` its delay; the record's instants are those of the
-    turn's last record moved by whole periods."""
+@dataclass(frozen=True, slots=True)
+class Move:
+    """One move of the reader: from block `node`, `delay` ms later, by `via` (a jump's
+    outcome; None otherwise), to block `to`, possible at the instants `allowed` of `node`."""
 
-    path: tuple[Record, ...]
+    node: int
+    to: int
+    via: bool | None
+    delay: int
+    allowed: TimeSet
+
+
+@dataclass(frozen=True, slots=True)
+class Cycle:
+    """A path from a loop's head back to it: its moves in order and its length (`period`,
+    ms)."""
+
+    head: int
+    moves: tuple[Move, ...]
     period: int
 
 
 @dataclass(slots=True, eq=False)
+class Source:
+    """A move that brought instants to a record: from `parent`'s instants, by `move`."""
+
+    parent: Record
+    move: Move
+
+
+@dataclass(slots=True, eq=False)
 class Record:
-    """Instants newly known at one block (`node`; ENDED for the script's end) and how they
-    were reached: from `parent`'s instants, `delay` ms later, by `via` (a jump's outcome,
-    True or False; None after an instruction block, a sensor block or the start). `ended` is
-    "terminus" or "past_end" for an end record; `loop` is set on the record of a loop's turns
-    added at once (its parent is the turn they repeat)."""
+    """Instants newly known at one block (`node`; ENDED for the script's end): `base` those
+    its `sources` brought, `times` those and the turns of the `loops` taken from them (each a
+    cycle and how many turns, None: without end). `ended` is "terminus" or "past_end" for an
+    end record."""
 
     node: int
     times: TimeSet
-    parent: Record | None
-    via: bool | None
-    delay: int
+    base: TimeSet
+    sources: list[Source]
     serial: int
     ended: str = ""
-    loop: Loop | None = None
+    loops: list[tuple[Cycle, int | None]] = field(default_factory=list)
 
 
 @dataclass(frozen=True, slots=True)
@@ -95,11 +119,10 @@ class Exploration:
     """What the exploration found (see the module's docstring).
 
     `known[i]` is every instant the reader arrives at block `i`; `records[i]` the records at
-    block `i` in the order found (breadth first); `ends` the end records; `zero_edges` every
-    move between two blocks that takes no time, with the instants it happens at (the
-    material of a cycle that lets no time pass); `reached[g]` the first record by which goal
-    `g` is reached (left forward, or the script ends in it), `reached_at[g]` the instants.
-    `complete` is False when a bound stopped it (`bound` says which)."""
+    block `i` in the order made; `ends` the end records; `zero_edges` every move between two
+    blocks that takes no time, with the instants it happens at (the material of a cycle that
+    lets no time pass); `reached[g]` how goal `g` is reached (left forward, or the script ends
+    in it). `complete` is False when a bound stopped it (`bound` says which)."""
 
     model: Model
     known: list[TimeSet]
@@ -111,7 +134,7 @@ class Exploration:
     bound: str = ""
     count: int = 0  # records made
     seconds: float = 0.0
-    accelerated: int = 0  # loops whose turns were added at once
+    accelerated: int = 0  # cycles whose turns were added at once
 
     def end_times(self) -> TimeSet:
         """Every instant at which the script can end."""
@@ -121,6 +144,72 @@ class Exploration:
         return out
 
 
+def moves(model: Model, i: int) -> list[Move]:
+    """The moves of the reader from block `i` (to `model.end`: past the last block)."""
+    step = model.steps[i]
+    if step.kind == INSTRUCTION:
+        return [Move(i, step.next, None, step.length, ALWAYS)]
+    if step.kind == JUMP:
+        outcomes = step.outcomes
+        assert outcomes is not None
+        return [Move(i, step.on_true, True, 0, outcomes.true_at),
+                Move(i, step.on_false, False, 0, outcomes.false_at)]
+    if step.kind == SENSOR:
+        return [Move(i, step.next, None, 0, ALWAYS)]
+    assert step.kind == TERMINUS
+    return []
+
+
+def cycles(model: Model) -> dict[int, list[Cycle]]:
+    """The cycles of the script that take time, by head (see the module's docstring): a head
+    is a block a later block moves back to; its cycles are the simple paths from it back to
+    it through blocks after it that can lead back to it (at most MAX_CYCLES, each of at most
+    MAX_CYCLE_BLOCKS blocks)."""
+    out_moves = [[m for m in moves(model, i) if m.allowed] for i in range(model.end)]
+    into: dict[int, list[int]] = {}
+    for i, ms in enumerate(out_moves):
+        for m in ms:
+            into.setdefault(m.to, []).append(i)
+    heads = sorted({m.to for i, ms in enumerate(out_moves) for m in ms if m.to <= i})
+    out: dict[int, list[Cycle]] = {}
+    for head in heads:
+        # The blocks after the head from which it can be reached again: a cycle goes through
+        # these only.
+        back = {head}
+        stack = [head]
+        while stack:
+            for j in into.get(stack.pop(), ()):
+                if j > head and j not in back:
+                    back.add(j)
+                    stack.append(j)
+        found: list[Cycle] = []
+        for path in _paths_back(out_moves, head, back):
+            period = sum(m.delay for m in path)
+            if period > 0:
+                found.append(Cycle(head, path, period))
+        if found:
+            out[head] = found
+    return out
+
+
+def _paths_back(out_moves: list[list[Move]], head: int, back: set[int]
+                ) -> Iterator[tuple[Move, ...]]:
+    """Simple paths from `head` back to it through the blocks of `back`, depth first."""
+    count = steps = 0
+    stack: list[tuple[int, tuple[Move, ...], frozenset[int]]] = [(head, (), frozenset())]
+    while stack and count < MAX_CYCLES and steps < MAX_CYCLE_BLOCKS * MAX_CYCLES * 8:
+        node, path, seen = stack.pop()
+        steps += 1
+        if len(path) >= MAX_CYCLE_BLOCKS:
+            continue
+        for move in reversed(out_moves[node]):
+            if move.to == head:
+                count += 1
+                yield (*path, move)
+            elif move.to in back and move.to not in seen:
+                stack.append((move.to, (*path, move), seen | {move.to}))
+
+
 def explore(model: Model, *, max_records: int = MAX_RECORDS,
             interrupted: Callable[[], bool] | None = None,
             progress: Callable[[int], None] | None = None) -> Exploration:
@@ -128,23 +217,45 @@ def explore(model: Model, *, max_records: int = MAX_RECORDS,
     `interrupted()` is asked now and then: when it says yes, the exploration stops there,
     incomplete; `progress(count)` is told now and then how many records were made."""
     started = time.perf_counter()
-    steps, end = model.steps, model.end
-    found = Exploration(model, [TimeSet.empty() for _ in steps], [[] for _ in steps])
-    queue: deque[Record] = deque()
+    end = model.end
+    found = Exploration(model, [TimeSet.empty() for _ in model.steps],
+                        [[] for _ in model.steps])
+    loops = cycles(model)
+    out_moves = [moves(model, i) for i in range(end)]
+    pending: dict[int, tuple[TimeSet, list[Source]]] = {}
+    heap: list[tuple[int, int]] = []
     serial = 0
 
-    def add(node: int, times: TimeSet, parent: Record | None, via: bool | None,
-            delay: int, ended: str = "") -> None:
+    def arrive(to: int, times: TimeSet, source: Source | None) -> None:
         nonlocal serial
-        serial += 1
-        queue.append(Record(node, times, parent, via, delay, serial, ended))
+        if to >= end:  # past the last block: the script ends
+            serial += 1
+            record = Record(ENDED, times, times, [source] if source else [], serial,
+                            "past_end")
+            _ended(found, record)
+            return
+        had = pending.get(to)
+        if had is None:
+            pending[to] = (times, [source] if source else [])
+            heapq.heappush(heap, (times.min(), to))
+        else:
+            merged = had[0] | times
+            if source is not None:
+                had[1].append(source)
+            pending[to] = (merged, had[1])
+            if times.min() < had[0].min():
+                heapq.heappush(heap, (times.min(), to))
 
     if end == 0:  # no block: the script ends as it starts
-        add(ENDED, TimeSet.point(0), None, None, 0, "past_end")
+        arrive(0, TimeSet.point(0), None)
     else:
-        add(0, TimeSet.point(0), None, None, 0)
+        arrive(0, TimeSet.point(0), None)
     try:
-        while queue:
+        while heap:
+            _, i = heapq.heappop(heap)
+            entry = pending.pop(i, None)
+            if entry is None:
+                continue  # taken already, at an earlier instant
             if found.count >= max_records:
                 found.complete = False
                 found.bound = f"{max_records:,} sets of instants explored"
@@ -156,42 +267,41 @@ def explore(model: Model, *, max_records: int = MAX_RECORDS,
                     break
                 if progress is not None:
                     progress(found.count)
-            record = queue.popleft()
-            found.count += 1
-            if record.node == ENDED:
-                found.ends.append(record)
-                last = record.parent
-                if last is not None:  # the goal the script ends in is reached
-                    found.reached.setdefault(model.steps[last.node].goal, []).append(
-                        Reach(last, record.times.shift(-record.delay), ENDED, record.via,
-                              record.delay))
-                continue
-            i = record.node
-            new = record.times - found.known[i]
+            times, sources = entry
+            new = times - found.known[i]
             if not new:
                 continue
-            record.times = new
-            record = _accelerate(found, record)
+            serial += 1
+            found.count += 1
+            record = Record(i, new, new, sources, serial)
+            for cycle in loops.get(i, ()):
+                turns = _turns(cycle, new)
+                if turns is None or turns >= 2:
+                    record.loops.append((cycle, turns))
+                    record.times = record.times | new.repeat(cycle.period, turns)
+                    found.accelerated += 1
             found.known[i] = found.known[i] | record.times
             found.records[i].append(record)
-            times = record.times
-            step = steps[i]
-            if step.kind == INSTRUCTION:
-                _move(found, add, record, step.next, times.shift(step.length), None,
-                      step.length)
-            elif step.kind == JUMP:
-                outcomes = step.outcomes
-                assert outcomes is not None
-                yes, no = times & outcomes.true_at, times & outcomes.false_at
-                if yes:
-                    _move(found, add, record, step.on_true, yes, True, 0)
-                if no:
-                    _move(found, add, record, step.on_false, no, False, 0)
-            elif step.kind == TERMINUS:
-                add(ENDED, times, record, None, 0, "terminus")
-            else:
-                assert step.kind == SENSOR
-                _move(found, add, record, step.next, times, None, 0)
+            step = model.steps[i]
+            if step.kind == TERMINUS:
+                serial += 1
+                _ended(found, Record(ENDED, record.times, record.times,
+                                     [Source(record, Move(i, ENDED, None, 0, ALWAYS))], serial,
+                                     "terminus"))
+                continue
+            for move in out_moves[i]:
+                at = record.times if move.allowed is ALWAYS else record.times & move.allowed
+                if not at:
+                    continue
+                if move.delay == 0 and move.to < end:
+                    key = (i, move.to)
+                    found.zero_edges[key] = found.zero_edges.get(key, TimeSet.empty()) | at
+                if move.to < end and model.steps[move.to].goal > step.goal:
+                    # leaving a goal forward reaches it (runtime/goals.py)
+                    found.reached.setdefault(step.goal, []).append(
+                        Reach(record, at, move.to, move.via, move.delay))
+                arrive(move.to, at.shift(move.delay) if move.delay else at,
+                       Source(record, move))
     except TooComplex as exc:
         found.complete = False
         found.bound = str(exc)
@@ -199,70 +309,25 @@ def explore(model: Model, *, max_records: int = MAX_RECORDS,
     return found
 
 
-def _move(found: Exploration, add: Callable[..., None], record: Record, to: int,
-          times: TimeSet, via: bool | None, delay: int) -> None:
-    """The reader goes from `record`'s block to block `to` (past the end: the script ends)."""
-    model = found.model
-    if to >= model.end:
-        add(ENDED, times, record, via, delay, "past_end")
-        return
-    if delay == 0:
-        key = (record.node, to)
-        found.zero_edges[key] = found.zero_edges.get(key, TimeSet.empty()) | times
-    here, there = model.steps[record.node].goal, model.steps[to].goal
-    if there > here:  # leaving a goal forward reaches it (runtime/goals.py)
-        found.reached.setdefault(here, []).append(
-            Reach(record, times.shift(-delay), to, via, delay))
-    add(to, times, record, via, delay)
+def _ended(found: Exploration, record: Record) -> None:
+    """An end record: the goal of the block read last is reached."""
+    found.ends.append(record)
+    for source in record.sources:
+        last = source.parent
+        found.reached.setdefault(found.model.steps[last.node].goal, []).append(
+            Reach(last, record.times.shift(-source.move.delay), ENDED, source.move.via,
+                  source.move.delay))
 
 
-def _accelerate(found: Exploration, record: Record) -> Record:
-    """`record` (its instants new at its block) with the turns of the loop it closes added at
-    once, when it closes one and more than one turn keeps every timed jump's outcome (see the
-    module's docstring); else `record` itself."""
-    node, times = record.node, record.times
-    path: list[Record] = []
-    period = 0
-    ancestor = record
-    for _ in range(LOOP_SEARCH):
-        period += ancestor.delay
-        path.append(ancestor)
-        parent = ancestor.parent
-        if parent is None or parent.node == ENDED:
-            return record
-        if parent.node == node:
-            ancestor = parent
-            break
-        ancestor = parent
-    else:
-        return record
-    if period <= 0:
-        return record  # a cycle that lets no time pass: `zero_edges` has it
-    if any(r.loop is not None for r in path):
-        return record  # a turn that holds another loop's turns has no one delay
-    path.reverse()  # from the first block after the ancestor to `record`
-    turns = _turns(found.model, path, times, period)
-    if turns is not None and turns < 2:
-        return record
-    found.accelerated += 1
-    more = times.repeat(period, turns)
-    return Record(node, more, record, None, 0, record.serial, loop=Loop(tuple(path), period))
-
-
-def _turns(model: Model, path: list[Record], times: TimeSet, period: int) -> int | None:
-    """How many turns of the loop `path` (one turn, `period` ms) the instants `times` can take
-    with every timed jump on it keeping the outcome it had; None: without end."""
+def _turns(cycle: Cycle, times: TimeSet) -> int | None:
+    """How many turns of `cycle` the instants `times` at its head can take with every timed
+    jump on it keeping the outcome the cycle needs; None: without end."""
     lo, hi = times.min(), times.max()
     turns: int | None = None
     offset = 0
-    for record in path:
-        jump = record.parent
-        assert jump is not None
-        step = model.steps[jump.node]
-        if step.kind == JUMP and record.via is not None:
-            outcomes = step.outcomes
-            assert outcomes is not None
-            allowed = outcomes.true_at if record.via else outcomes.false_at
+    for move in cycle.moves:
+        allowed = move.allowed
+        if allowed is not ALWAYS:
             span = _interval_around(allowed, lo + offset, None if hi is None else hi + offset)
             if span is None:
                 return 0
@@ -270,9 +335,9 @@ def _turns(model: Model, path: list[Record], times: TimeSet, period: int) -> int
             if last is not None:
                 if hi is None:
                     return 0
-                k = (last - (hi + offset)) // period + 1
+                k = (last - (hi + offset)) // cycle.period + 1
                 turns = k if turns is None else min(turns, k)
-        offset += record.delay
+        offset += move.delay
     return turns
 
 
@@ -280,38 +345,72 @@ def _interval_around(allowed: TimeSet, lo: int, hi: int | None) -> tuple[int, in
     """The run of consecutive instants of `allowed` that holds `lo` to `hi` (`hi` None: every
     instant from `lo`), as (first, last or None); None when no such run holds them all."""
     for start, step, count in allowed.pieces:
-        last = None if count is None else start + step * (count - 1)
         if step != 1 and count != 1:
             continue
+        last = None if count is None else start + count - 1
         if start <= lo and (last is None or (hi is not None and hi <= last)):
             return start, last
     return None
 
 
-def trail(record: Record, t: int) -> list[Visit]:
+def trail(record: Record, t: int,
+          prefer: Callable[[int], bool] | None = None) -> list[Visit]:
     """A run that arrives at `record`'s block at `t` (one of its instants): every block it
-    reads, in order, from the first at 0 ms."""
+    reads, in order, from the first at 0 ms. Where several moves lead to the same instant,
+    one from a block `prefer` likes is taken when there is one."""
     out: list[Visit] = []
     current: Record | None = record
+    via: bool | None = None
     while current is not None:
-        loop = current.loop
-        if loop is not None:
-            base = current.parent
-            assert base is not None
-            turns = 0
-            while t - turns * loop.period not in base.times:
-                turns += 1
-            # The turns, last first: each the loop's path ending at `t`, `t - period`, ...
-            for k in range(turns):
-                at = t - k * loop.period
-                for step in reversed(loop.path):
-                    out.append(Visit(step.node, at, step.via))
-                    at -= step.delay
-            t -= turns * loop.period
-            current = base
+        if current.node == ENDED:
+            source = current.sources[0] if current.sources else None
+            out.append(Visit(ENDED, t, source.move.via if source else None))
+            if source is None:
+                break
+            t -= source.move.delay
+            current = source.parent
             continue
-        out.append(Visit(current.node, t, current.via))
-        t -= current.delay
-        current = current.parent
+        if t not in current.base:
+            t = _unwind(current, t, out)
+        source = _source(current, t, prefer)
+        via = source.move.via if source is not None else None
+        out.append(Visit(current.node, t, via))
+        if source is None:
+            break
+        t -= source.move.delay
+        current = source.parent
     out.reverse()
     return out
+
+
+def _unwind(record: Record, t: int, out: list[Visit]) -> int:
+    """`t` came by turns of one of `record`'s loops: write those turns (last first) and
+    return the instant at the head they started from."""
+    for cycle, turns in record.loops:
+        j = 1
+        while turns is None or j <= turns:
+            if t - j * cycle.period < record.base.min():
+                break
+            if t - j * cycle.period in record.base:
+                for k in range(j):
+                    at = t - k * cycle.period
+                    for move in reversed(cycle.moves):
+                        out.append(Visit(move.to, at, move.via))
+                        at -= move.delay
+                return t - j * cycle.period
+            j += 1
+    raise AssertionError(f"{t} ms is not an instant of the record at block {record.node}")
+
+
+def _source(record: Record, t: int, prefer: Callable[[int], bool] | None) -> Source | None:
+    """A source of `record` that brings the instant `t` (None for the start)."""
+    fallback = None
+    for source in record.sources:
+        before = t - source.move.delay
+        if before in source.parent.times and before in source.move.allowed:
+            if prefer is None or prefer(source.parent.node):
+                return source
+            fallback = fallback or source
+    if fallback is None and record.sources:
+        raise AssertionError(f"no move brings {t} ms to block {record.node}")
+    return fallback

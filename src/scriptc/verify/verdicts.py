@@ -25,8 +25,8 @@ from scriptc.runtime.status import NO_PROGRESS, READ
 from scriptc.source import Span
 from scriptc.verify.explore import (
     MAX_RECORDS,
+    Cycle,
     Exploration,
-    Loop,
     Reach,
     Record,
     Visit,
@@ -171,22 +171,20 @@ class _Judge:
                               governed, why="interrupted before its replay")
             self._witnesses[name] = witness
             return witness
-        world = build_world(self.model, visits, self.runner)
+        world = build_world(self.model, visits, self.runner, until=until, governed=governed)
         witness = Witness(name, visits, world, claim, until, governed)
-        if not world.ok:
-            witness.why = world.why
-        else:
-            last = max(v.t for v in visits) if visits else 0
-            result = self.runner.run(world.updates, until if until is not None else None,
-                                     governed)
-            witness.result = result
-            witness.why = check(result)
+        if world.ok and world.result is not None:
+            # The run that took the path is the replay: it went to `until` (or to the end).
+            witness.result = world.result
+            witness.why = check(world.result)
             witness.confirmed = not witness.why
-            self._note(result, last)
+            self._note(world.result)
+        else:
+            witness.why = world.why
         self._witnesses[name] = witness
         return witness
 
-    def _note(self, result: RunResult, last: int) -> None:
+    def _note(self, result: RunResult) -> None:
         """The blocks and goals a replay reached (confirmed reachable)."""
         for e in result.trace.events:
             kind = e["event"]
@@ -224,12 +222,13 @@ class _Judge:
     def _incomplete(self, name: str, what: str) -> Finding:
         return Finding(name, UNKNOWN, f"{what}: the exploration stopped ({self.found.bound})")
 
-    def _stall(self) -> tuple[Record, Loop] | None:
-        """A loop the world can keep going forever: a record whose instants have no end."""
+    def _stall(self) -> tuple[Record, Cycle] | None:
+        """A loop the world can keep going forever: a cycle taken without end."""
         for records in self.found.records:
             for record in records:
-                if record.times.is_infinite and record.loop is not None:
-                    return record, record.loop
+                for cycle, turns in record.loops:
+                    if turns is None:
+                        return record, cycle
         return None
 
     def _no_stall(self) -> Finding:
@@ -238,14 +237,11 @@ class _Judge:
                 return self._incomplete("no-stall", "no run was found that waits forever")
             return Finding("no-stall", PROVED, "every run leaves every loop it enters")
         record, loop = self.stall
-        base = record.parent
-        assert base is not None
-        start = base.times.min()
+        start = record.base.min()
         t = start + 2 * loop.period
         visits = trail(record, t)
         until = t + loop.period
-        jumps = [v.parent.node for v in loop.path if v.parent is not None
-                 and self.model.steps[v.parent.node].kind == JUMP]
+        jumps = [m.node for m in loop.moves if m.via is not None]
         where = self.model.steps[jumps[-1] if jumps else record.node]
 
         def check(result: RunResult) -> str:

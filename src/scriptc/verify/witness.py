@@ -90,6 +90,7 @@ class Built:
     ok: bool = True
     failed_at: int | None = None
     why: str = ""
+    result: RunResult | None = None  # the run that took the path
 
     def as_json(self, description: str) -> JSONObject:
         """The scenario file's content (schemas/scenario.schema.json)."""
@@ -129,13 +130,15 @@ def asks_of(model: Model, visits: Sequence[Visit]) -> list[Ask]:
     return out
 
 
-def build_world(model: Model, visits: Sequence[Visit], runner: Runner,
-                max_runs: int = 40) -> Built:
+def build_world(model: Model, visits: Sequence[Visit], runner: Runner, *,
+                until: int | None = None, governed: bool = False, max_runs: int = 40) -> Built:
     """A world under which the runtime takes the path `visits` (see the module's docstring),
     every jump up to the path's last instant checked in the runtime's trace. The world is made
     whole, each instant's most likely choice first, and run once; where the run leaves the
     path, the next choice for that instant is tried (and the instants after it made again),
-    up to `max_runs` runs."""
+    up to `max_runs` runs. Each run goes to `until` (None: the path's last instant, or the
+    end of the session if it ends there), with the governor when `governed`: the run that
+    took the path is the built world's `result`."""
     expected = expected_jumps(model, visits)
     instants = [(t, list(group)) for t, group in
                 itertools.groupby(asks_of(model, visits), key=lambda a: a.t)]
@@ -147,11 +150,12 @@ def build_world(model: Model, visits: Sequence[Visit], runner: Runner,
         updates = _make(model, instants, tried, known)
         if updates is None:
             break
-        result = runner.run(updates, last)
+        result = runner.run(updates, last if until is None else max(until, last), governed)
         actual = jumps_of(result.trace.events)
         wrong = _first_difference(actual, expected, last)
         if wrong is None:
             built.updates = updates
+            built.result = result
             return built
         # The first instant where the run left the path: its next choice, with the VAR
         # values the run really had.
