@@ -25,7 +25,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from generate import waiting_script  # noqa: E402  (the benchmarks' own module, beside this one)
+from generate import waiting_script
 
 
 def measure(actions: int) -> dict[str, object]:

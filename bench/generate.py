@@ -112,17 +112,17 @@ def waiting_script(actions: int, *, period: int = 500, timeout: int = 30_000) ->
         if k % 10 == 0:
             out.append(f"[goal:round{k // 10}]\n")
         deadline = (k + 1) * timeout
+        near = "{CLASS #Human U ?kid (B: near(1.0))} ! {TRUE}"
+        late = f"{{CLASS #Activity T ?me (?THIS>&elapsedtime OP> {deadline})}} ! {{TRUE}}"
+        left = "{CLASS #Human U ?kid (?THIS>&positiontheta OP> 0.3)} ! {TRUE}"
         out += [
             "  [action]\n",
             f'    [b#a{k}#blk_inst: MV() LD("0.2, 0.4, 0.9, 1, 0, {period}") AO()]\n',
             f'    [b#w{k}#blk_inst: MV() LD("0.9, 0.6, 0.3, 1, 0, {period}") AO()]\n',
-            f"    [b##blk_jump: CND({{CLASS #Human U ?kid (B: near(1.0))}} ! {{TRUE}}) "
-            f"TRJMP(c{k}) FLSJMP()]\n",
-            f"    [b##blk_jump: CND({{CLASS #Activity T ?me (?THIS>&elapsedtime OP> {deadline})}}"
-            f" ! {{TRUE}}) TRJMP(t{k}) FLSJMP(w{k})]\n",
-            f"    [b#c{k}#blk_jump: CND({{CLASS #Human U ?kid (?THIS>&positiontheta OP> 0.3)}}"
-            f" ! {{TRUE}}) TRJMP(l{k}) FLSJMP()]\n",
-            f'    [b##blk_inst: MV() LD("0.2, 0.8, 0.3, 1, 0, 1000") AO()]\n',
+            f"    [b##blk_jump: CND({near}) TRJMP(c{k}) FLSJMP()]\n",
+            f"    [b##blk_jump: CND({late}) TRJMP(t{k}) FLSJMP(w{k})]\n",
+            f"    [b#c{k}#blk_jump: CND({left}) TRJMP(l{k}) FLSJMP()]\n",
+            '    [b##blk_inst: MV() LD("0.2, 0.8, 0.3, 1, 0, 1000") AO()]\n',
             f"    [b##blk_jump: CND({{TRUE}}) TRJMP(n{k}) FLSJMP()]\n",
             f'    [b#l{k}#blk_inst: MV() LD("0.3, 0.8, 0.2, 1, 0, 700") AO()]\n',
             f'    [b#t{k}#blk_inst: MV() LD("0.1, 0.2, 0.4, 1, 0, {period}") AO()]\n',
