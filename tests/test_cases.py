@@ -27,11 +27,13 @@ def test_every_file_has_a_case() -> None:
 
 def test_every_code_has_a_case() -> None:
     """Each code of the registry is reported by a case: a lint code in an expected diagnostics
-    file, a run-time code (family X) in an `error` event of an expected trace."""
+    file, a verification's (family Y) in an expected `.verify` file, a run-time code (family
+    X) in an `error` event of an expected trace."""
     from scriptc.diagnostics.codes import all_codes
 
     seen = set()
-    for path in [*harness.files("", "*.diagnostics"), *harness.files("", "*.lint")]:
+    for path in [*harness.files("", "*.diagnostics"), *harness.files("", "*.lint"),
+                 *harness.files("verify", "*.verify")]:
         seen.update(code for _span, _severity, code, _message in
                     parsed(path.read_text(encoding="utf-8")))
     names = set()

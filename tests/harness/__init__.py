@@ -34,6 +34,9 @@ The aspects (inputs, then what each writes beside them):
 - `coverage`: `coverage/NAME/`, a folder of test files and their scripts: `NAME.coverage`,
   `NAME.info` and `NAME.coverage.json`, what `scriptc test --coverage`, `--lcov` and
   `--coverage-data` give over those tests (harness/coverage.py).
+- `verify`: `verify/NAME.script`: `NAME.verify`, the line of each property `scriptc verify`
+  prints and the diagnostics of the verification (family Y), and `NAME.verify.json`, its
+  result as data (harness/verify.py).
 
 `render/*.txt` are snapshots of the text renderer over hand-built diagnostics, written by
 tests/test_render.py through `expect`. A file under tests/cases/ that is neither an input, an
@@ -131,10 +134,11 @@ SUPPORT = ("scriptc.toml", "*.py")
 
 def checks() -> list[Check]:
     """Every check of every case, aspect by aspect."""
-    from harness import aspects, coverage, ide, runtime, testing
+    from harness import aspects, coverage, ide, runtime, testing, verify
 
     out: list[Check] = []
-    for make in (*aspects.ASPECTS, ide.checks, runtime.checks, testing.checks, coverage.checks):
+    for make in (*aspects.ASPECTS, ide.checks, runtime.checks, testing.checks, coverage.checks,
+                 verify.checks):
         out.extend(make())
     return out
 

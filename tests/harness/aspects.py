@@ -34,9 +34,11 @@ def analysis(path: Path, text: str | None = None):
 
 def script_inputs() -> list[Path]:
     """Every script and thesis JSON file of the cases (not the goldens `NAME.out.*` and
-    `NAME.coverage.json`, nor the JSON of the test files' cases: their results and worlds)."""
+    `NAME.coverage.json` and `NAME.verify.json`, nor the JSON of the test files' cases: their
+    results and worlds)."""
     return [p for p in files() if p.suffix in (".script", ".json")
-            and not p.name.endswith((".out.script", ".out.json", ".coverage.json"))
+            and not p.name.endswith((".out.script", ".out.json", ".coverage.json",
+                                     ".verify.json"))
             and not relative(p).startswith("testing/")]
 
 

@@ -5,7 +5,7 @@ explore every run of each script that the world allows and prove or refute its p
 
 For each file, one line per property, then each violation as a diagnostic in the compiler's
 style (family Y) whose help is the `scriptc run` command that replays it, and each undecided
-property as a warning (Y006). The scenario file of each confirmed violation, and of each
+property as a warning (Y005). The scenario file of each confirmed violation, and of each
 witness asked with `--witness` (`fastest`, `slowest` or a goal id), is written to
 `--counterexamples DIR` (default `scriptc-verify/`). `--json` prints one JSON object per file
 (JSON lines); `--format sarif` and `github` give the diagnostics for CI; `--stats` adds what

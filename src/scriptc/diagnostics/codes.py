@@ -150,13 +150,11 @@ _CODES = (
     # Y: what `scriptc verify` proves or refutes over every world (verify/, docs/verify.md)
     Code("Y001", "waits-forever", E,
          "a world can keep the robot in a loop forever: the activity may never end"),
-    Code("Y002", "cycle-without-time", E,
-         "a run can go round blocks without time passing: the session stops with an error"),
-    Code("Y003", "goal-never-reached", E, "no world reaches a goal of the activity"),
-    Code("Y004", "block-never-read", E, "no world leads the block reader to a block"),
-    Code("Y005", "needs-governor", E,
+    Code("Y002", "goal-never-reached", E, "no world reaches a goal of the activity"),
+    Code("Y003", "block-never-read", E, "no world leads the block reader to a block"),
+    Code("Y004", "needs-governor", E,
          "a run reads a block that the safety governor must correct (speed, ramps, flashing)"),
-    Code("Y006", "not-decided", W,
+    Code("Y005", "not-decided", W,
          "verify could not decide a property: a bound was reached, or a run it found could not "
          "be replayed"),
     # X: run time (the trace's `error` events carry the name; runtime/status.py)

@@ -15,18 +15,20 @@ from scriptc.verify.verdicts import PROVED, UNKNOWN, VIOLATED, Finding, Verifica
 
 __all__ = ["CODES", "as_data", "diagnostics", "property_lines", "stats_line"]
 
-# The code of each property's violation.
-CODES = {"no-stall": "Y001", "no-progress": "Y002", "goals": "Y003", "blocks": "Y004",
-         "safety": "Y005"}
+# The code of each property's violation. A cycle that lets no time pass is lint's F002: a
+# script with one has an error and is not explored (verify reads checked scripts only), so
+# `no-progress` is violated only for a model made without the checks (the Python API).
+CODES = {"no-stall": "Y001", "no-progress": "F002", "goals": "Y002", "blocks": "Y003",
+         "safety": "Y004"}
 
 _GREEN, _RED, _YELLOW, _RESET = "\x1b[32m", "\x1b[31m", "\x1b[33m", "\x1b[0m"
 _COLOURS = {PROVED: _GREEN, VIOLATED: _RED, UNKNOWN: _YELLOW}
 
 
 def diagnostics(verification: Verification, replays: Mapping[str, str]) -> list[Diagnostic]:
-    """The diagnostics of a verification: a Y001-Y005 for each thing a violated property is
-    about (the help replays the run that shows it: `replays` maps a witness's name to its
-    `scriptc run` command), a Y006 for each property not decided."""
+    """The diagnostics of a verification: a Y001-Y004 (F002) for each thing a violated
+    property is about (the help replays the run that shows it: `replays` maps a witness's
+    name to its `scriptc run` command), a Y005 for each property not decided."""
     whole = verification.model.program.script.name.span
     out: list[Diagnostic] = []
     for finding in verification.findings:
@@ -48,7 +50,7 @@ def diagnostics(verification: Verification, replays: Mapping[str, str]) -> list[
 
 
 def _undecided(finding: Finding, whole: Span) -> Diagnostic:
-    return diagnostic("Y006", f"`{finding.property}` is not decided: {finding.detail}",
+    return diagnostic("Y005", f"`{finding.property}` is not decided: {finding.detail}",
                       finding.span or whole, notes=tuple(finding.notes))
 
 
