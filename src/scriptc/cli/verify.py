@@ -161,8 +161,9 @@ def _print(run: VerifyRun, format_: str, stats: bool) -> None:
     if format_ in ("sarif", "github"):
         write(render(format_, reports, color=False))
     if run.interrupted:
-        write(f"error: interrupted (Ctrl-C): {len(run.files)} files verified; what was not "
-              "decided is unknown\n", err=True)
+        count = len(run.files)
+        write(f"error: interrupted (Ctrl-C): {count} file{'' if count == 1 else 's'} "
+              "looked at; what was not decided is unknown\n", err=True)
 
 
 def _until(file: FileVerification, name: str) -> int | None:

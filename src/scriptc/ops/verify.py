@@ -110,8 +110,7 @@ def verify_paths(paths: Sequence[str], options: VerifyOptions | None = None) -> 
         except interrupt.Interrupted:
             run.interrupted = True
             break
-        if run.files[-1].verification is not None \
-                and run.files[-1].verification.exploration.bound == "interrupted":
+        if run.files[-1].verification is not None and run.files[-1].verification.interrupted:
             run.interrupted = True
             break
     run.seconds = time.perf_counter() - started
@@ -137,6 +136,7 @@ def verify_file(path: str, options: VerifyOptions | None = None) -> FileVerifica
         out.problem = str(exc)
         return out
     out.analysis = analysis
+    interrupt.check()  # Ctrl-C while the file was read: nothing more is done
     if not analysis.ok or analysis.script is None or has_errors(analysis.diagnostics):
         out.problem = f"`{shown_path(path)}` has errors"
         return out
@@ -152,6 +152,7 @@ def verify_file(path: str, options: VerifyOptions | None = None) -> FileVerifica
     except (ConfiguredError, Refused) as exc:
         out.problem = str(exc)
         return out
+    interrupt.check()
     model = Model(IRProgram(analysis.script, path), functions)
     out.assumptions = _assumptions(model)
     runner = Runner(program, functions, rules, setup.profile,

@@ -20,6 +20,7 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
+from scriptc import interrupt
 from scriptc.runtime.loop import RunResult
 from scriptc.runtime.status import NO_PROGRESS, READ
 from scriptc.source import Span
@@ -44,6 +45,8 @@ PROVED, VIOLATED, UNKNOWN = "proved", "violated", "unknown"
 PROPERTIES = ("terminates", "goals", "blocks", "duration", "no-stall", "no-progress", "safety")
 # Replays spent confirming that blocks are reached, beyond those of goals and durations.
 BLOCK_REPLAYS = 16
+# The ways to reach a goal tried, earliest first, until a world is made for one.
+WAYS_TRIED = 3
 
 
 @dataclass
@@ -107,6 +110,7 @@ class Verification:
     witnesses: list[Witness]
     replays: int
     seconds: float
+    interrupted: bool = False  # Ctrl-C stopped the exploration or a replay
 
     @property
     def states(self) -> int:
@@ -131,17 +135,21 @@ def verify_model(model: Model, runner: Runner, *, witnesses: Sequence[str] = (),
     started = time.perf_counter()
     found = explore(model, max_records=max_records or MAX_RECORDS, interrupted=interrupted,
                     progress=progress)
-    judge = _Judge(model, found, runner)
+    judge = _Judge(model, found, runner, interrupted)
     findings = judge.findings(unsafe or {})
     asked = [judge.asked(name) for name in witnesses]
     return Verification(model, found, findings, judge.min, judge.max, judge.unbounded,
-                        asked, runner.runs, time.perf_counter() - started)
+                        asked, runner.runs, time.perf_counter() - started,
+                        judge.stopped or found.bound == "interrupted")
 
 
 class _Judge:
     """Decides the properties of one exploration (see the module's docstring)."""
 
-    def __init__(self, model: Model, found: Exploration, runner: Runner) -> None:
+    def __init__(self, model: Model, found: Exploration, runner: Runner,
+                 interrupted: Callable[[], bool] | None = None) -> None:
+        self.interrupted = interrupted
+        self.stopped = False  # Ctrl-C came: no more replays
         self.model = model
         self.found = found
         self.runner = runner
@@ -153,6 +161,7 @@ class _Judge:
         self.unbounded = self.stall is not None
         top = ends.max() if ends else None
         self.max: int | None = None if self.unbounded or not self.complete else top
+        self._ways: dict[int, list[tuple[Step, bool | None, TimeSet]]] | None = None
         self.confirmed_blocks: set[str] = set()
         self.confirmed_goals: set[str] = set()
         self._witnesses: dict[str, Witness] = {}
@@ -161,17 +170,24 @@ class _Judge:
 
     def _replay(self, name: str, visits: list[Visit], claim: str,
                 check: Callable[[RunResult], str], until: int | None = None,
-                governed: bool = False) -> Witness:
+                governed: bool = False, goes_on: bool = False) -> Witness:
         """Make the world of `visits`, replay it, and ask `check` of the run ("" when it shows
         the claim, else why not)."""
         if name in self._witnesses:
             return self._witnesses[name]
-        if self.found.bound == "interrupted":  # Ctrl-C: nothing more runs
+        if self.stopped or self.found.bound == "interrupted" or (
+                self.interrupted is not None and self.interrupted()):  # Ctrl-C: no more
+            self.stopped = True
             witness = Witness(name, visits, Built(ok=False, why="interrupted"), claim, until,
                               governed, why="interrupted before its replay")
             self._witnesses[name] = witness
             return witness
-        world = build_world(self.model, visits, self.runner, until=until, governed=governed)
+        try:
+            world = build_world(self.model, visits, self.runner, until=until,
+                                governed=governed, goes_on=goes_on)
+        except interrupt.Interrupted:
+            self.stopped = True
+            world = Built(ok=False, why="interrupted during its replay")
         witness = Witness(name, visits, world, claim, until, governed)
         if world.ok and world.result is not None:
             # The run that took the path is the replay: it went to `until` (or to the end).
@@ -268,8 +284,11 @@ class _Judge:
         succ: dict[int, list[int]] = {}
         for (a, b) in edges:
             succ.setdefault(a, []).append(b)
-        # Instants at each block from which a cycle of zero-time moves can be followed for
+        # Only the blocks of a strongly connected set of such moves can be on a cycle (none in
+        # a script lint passed: F002). Instants at each from which a cycle can be followed for
         # ever: the greatest fixpoint of "there is a move to a block that can go on".
+        cyclic = _on_cycles(succ)
+        succ = {a: [b for b in bs if b in cyclic] for a, bs in succ.items() if a in cyclic}
         alive = {a: TimeSet.all() for a in succ}
         changed = True
         while changed:
@@ -324,7 +343,7 @@ class _Judge:
             return f"the replay ended `{result.outcome}` without the run-time error"
 
         witness = self._replay("no-progress", visits, f"the run goes round without time "
-                               f"passing at {t} ms", check)
+                               f"passing at {t} ms", check, goes_on=True)
         names = ", ".join(f"`{_name(self.model.steps[a])}`" for a, _ in cycle[:-1])
         status = VIOLATED if witness.confirmed else UNKNOWN
         detail = f"at {t} ms a run can go round {names} without time passing"
@@ -380,19 +399,20 @@ class _Judge:
             what = []
             if missing:
                 what.append("the exploration stopped before reaching "
-                            + ", ".join(f"`{model.goal_ids[g]}`" for g in missing))
+                            + _some([model.goal_ids[g] for g in missing]))
             if unconfirmed:
-                what.append("no replay confirmed " + ", ".join(f"`{g}`" for g in unconfirmed))
+                what.append("no replay confirmed " + _some(unconfirmed))
             return Finding("goals", UNKNOWN, "; ".join(what), span, notes)
         return Finding("goals", PROVED,
                        f"each of the {len(model.goal_ids)} goals is reached in some world")
 
     def _goal_witness(self, g: int) -> Witness:
-        reach = min(self.found.reached[g], key=lambda r: r.times.min())
-        t = reach.times.min()
-        visits = trail(reach.record, t)
-        visits.append(Visit(reach.to, t + reach.delay, reach.via))
+        """A run that reaches goal `g`: the earliest way the exploration found first, then
+        (when no world could be made for it) the next ways, up to WAYS_TRIED."""
         goalid = self.model.goal_ids[g]
+        name = f"goal:{goalid}"
+        if name in self._witnesses:
+            return self._witnesses[name]
 
         def check(result: RunResult) -> str:
             if any(e["event"] == "goal" and e.get("goalid") == goalid
@@ -400,8 +420,20 @@ class _Judge:
                 return ""
             return f"the replay did not reach `{goalid}`"
 
-        return self._replay(f"goal:{goalid}", visits, f"goal `{goalid}` is reached", check,
-                            until=t + reach.delay)
+        ways = sorted(self.found.reached[g], key=lambda r: r.times.min())
+        witness: Witness | None = None
+        for k, reach in enumerate(ways[:WAYS_TRIED]):
+            t = reach.times.min()
+            visits = trail(reach.record, t)
+            visits.append(Visit(reach.to, t + reach.delay, reach.via))
+            witness = self._replay(f"{name}#{k}", visits, f"goal `{goalid}` is reached", check,
+                                   until=t + reach.delay)
+            if witness.confirmed:
+                break
+        assert witness is not None
+        witness.name = name
+        self._witnesses[name] = witness
+        return witness
 
     def asked(self, name: str) -> Witness:
         """The witness asked with `--witness NAME`."""
@@ -523,33 +555,44 @@ class _Judge:
 
     # -- why a goal or block is never reached ---------------------------------------------------
 
+    def _ways_in(self) -> dict[int, list[tuple[Step, bool | None, TimeSet]]]:
+        """For each block, the moves that lead to it: the block they leave, the outcome,
+        the instants it can be taken."""
+        if self._ways is None:
+            self._ways = {}
+            for step in self.model.steps:
+                if step.kind == JUMP:
+                    outcomes = step.outcomes
+                    assert outcomes is not None
+                    self._ways.setdefault(step.on_true, []).append(
+                        (step, True, outcomes.true_at))
+                    self._ways.setdefault(step.on_false, []).append(
+                        (step, False, outcomes.false_at))
+                elif step.kind != "terminus":
+                    self._ways.setdefault(step.next, []).append((step, None, TimeSet.all()))
+        return self._ways
+
     def _why_unreached_block(self, index: int) -> str:
         """Why no run reads block `index`: for each way in (the block before it, a jump to
         it), why it is not taken."""
-        model, known = self.model, self.found.known
+        known = self.found.known
         reasons = []
-        for step in model.steps:
-            ways: list[tuple[bool | None, TimeSet]] = []
-            if step.kind == JUMP:
-                outcomes = step.outcomes
-                assert outcomes is not None
-                if step.on_true == index:
-                    ways.append((True, outcomes.true_at))
-                if step.on_false == index:
-                    ways.append((False, outcomes.false_at))
-            elif step.next == index and step.kind != "terminus":
-                ways.append((None, TimeSet.all()))
-            for via, allowed in ways:
-                if not known[step.index]:
-                    continue  # unread itself: its own reason comes first
-                at = known[step.index].describe()
-                if via is None:
-                    reasons.append(f"`{_name(step)}` is read ({at}) but never goes on")
-                else:
-                    word = "true" if via else "false"
-                    reasons.append(f"the jump `{_name(step)}` is read at {at} and is never "
-                                   f"{word} then (it is {word} only at {allowed.describe()})")
+        for step, via, allowed in self._ways_in().get(index, ()):
+            if not known[step.index]:
+                continue  # unread itself: its own reason comes first
+            at = known[step.index].describe()
+            if via is None:
+                reasons.append(f"`{_name(step)}` is read ({at}) but never goes on")
+            else:
+                word = "true" if via else "false"
+                only = (f"it is {word} only at {allowed.describe()}" if allowed else
+                        f"it is never {word}")
+                reasons.append(f"the jump `{_name(step)}` is read at {at} and is never "
+                               f"{word} then ({only})")
         if not reasons:
+            if index == 0 or index - 1 not in {s.index for s, _, _ in
+                                               self._ways_in().get(index, ())}:
+                return "no jump leads to it, and the block before it never goes on to it"
             return "no block that leads to it is ever read"
         return "; ".join(reasons)
 
@@ -565,6 +608,54 @@ class _Judge:
 def _name(step: Step) -> str:
     """A block as messages name it: its label, else its path."""
     return step.label or step.address.path
+
+
+def _on_cycles(succ: dict[int, list[int]]) -> set[int]:
+    """The nodes of `succ` (a graph) that lie on a cycle: those of its strongly connected
+    components with more than one node or a move to themselves (Kosaraju's, iterative)."""
+    order: list[int] = []
+    seen: set[int] = set()
+    for root in succ:
+        if root in seen:
+            continue
+        seen.add(root)
+        stack = [(root, iter(succ.get(root, ())))]
+        while stack:
+            node, it = stack[-1]
+            nxt = next((b for b in it if b not in seen), None)
+            if nxt is None:
+                stack.pop()
+                order.append(node)
+            else:
+                seen.add(nxt)
+                stack.append((nxt, iter(succ.get(nxt, ()))))
+    pred: dict[int, list[int]] = {}
+    for a, bs in succ.items():
+        for b in bs:
+            pred.setdefault(b, []).append(a)
+    out: set[int] = set()
+    assigned: set[int] = set()
+    for root in reversed(order):
+        if root in assigned:
+            continue
+        component = [root]
+        assigned.add(root)
+        todo = [root]
+        while todo:
+            for a in pred.get(todo.pop(), ()):
+                if a not in assigned:
+                    assigned.add(a)
+                    component.append(a)
+                    todo.append(a)
+        if len(component) > 1 or root in succ.get(root, ()):
+            out.update(component)
+    return out
+
+
+def _some(names: Sequence[str], shown: int = 5) -> str:
+    """Names in backquotes, the first `shown` of them and how many more."""
+    out = ", ".join(f"`{n}`" for n in names[:shown])
+    return out + (f" and {len(names) - shown} more" if len(names) > shown else "")
 
 
 def _ms(t: int) -> str:

@@ -21,6 +21,7 @@ from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
+from scriptc import interrupt
 from scriptc.ir import nodes as ir
 from scriptc.numbers import JSONObject, JSONValue
 from scriptc.runtime.commands import as_number
@@ -131,14 +132,18 @@ def asks_of(model: Model, visits: Sequence[Visit]) -> list[Ask]:
 
 
 def build_world(model: Model, visits: Sequence[Visit], runner: Runner, *,
-                until: int | None = None, governed: bool = False, max_runs: int = 40) -> Built:
+                until: int | None = None, governed: bool = False, max_runs: int = 40,
+                goes_on: bool = False) -> Built:
     """A world under which the runtime takes the path `visits` (see the module's docstring),
     every jump up to the path's last instant checked in the runtime's trace. The world is made
     whole, each instant's most likely choice first, and run once; where the run leaves the
     path, the next choice for that instant is tried (and the instants after it made again),
     up to `max_runs` runs. Each run goes to `until` (None: the path's last instant, or the
     end of the session if it ends there), with the governor when `governed`: the run that
-    took the path is the built world's `result`."""
+    took the path is the built world's `result`. A run that Ctrl-C stopped raises
+    `interrupt.Interrupted`. With `goes_on`, the run may read more jumps
+    at the path's last instant than the path has (a cycle that lets no time pass, followed
+    once by the path, goes round until the runtime gives up)."""
     expected = expected_jumps(model, visits)
     instants = [(t, list(group)) for t, group in
                 itertools.groupby(asks_of(model, visits), key=lambda a: a.t)]
@@ -151,8 +156,11 @@ def build_world(model: Model, visits: Sequence[Visit], runner: Runner, *,
         if updates is None:
             break
         result = runner.run(updates, last if until is None else max(until, last), governed)
+        if result.outcome == "interrupted":
+            raise interrupt.Interrupted("interrupted (Ctrl-C)")
         actual = jumps_of(result.trace.events)
-        wrong = _first_difference(actual, expected, last)
+        wrong = _first_difference(actual[:len(expected)] if goes_on else actual, expected,
+                                  last)
         if wrong is None:
             built.updates = updates
             built.result = result
@@ -180,7 +188,9 @@ def _make(model: Model, instants: list[tuple[int, list[Ask]]], tried: dict[int, 
     None when an instant has no such choice left."""
     maker = _Maker(model)
     out: list[TimedUpdate] = []
-    for t, asks in instants:
+    for k, (t, asks) in enumerate(instants):
+        if k % 64 == 0:
+            interrupt.check()
         skip = tried.get(t, 0)
         choice = next(itertools.islice(maker.choices(asks, t, known), skip, None), None)
         if choice is None:
