@@ -35,6 +35,7 @@ def make_client() -> LanguageClient:
     client = LanguageClient(converter_factory=default_converter)
     client.published = {}  # uri -> PublishDiagnosticsParams
     client.refreshes = 0
+    client.hint_refreshes = 0
 
     def publish(client: LanguageClient, params: lsp.PublishDiagnosticsParams) -> None:
         client.diagnostics[params.uri] = params.diagnostics
@@ -43,9 +44,13 @@ def make_client() -> LanguageClient:
     def refresh(client: LanguageClient, params: None) -> None:
         client.refreshes += 1
 
+    def refresh_hints(client: LanguageClient, params: None) -> None:
+        client.hint_refreshes += 1
+
     features = dict(DEFAULT_CLIENT_FEATURES)
     features[lsp.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS] = publish
     features[lsp.WORKSPACE_DIAGNOSTIC_REFRESH] = refresh
+    features[lsp.WORKSPACE_INLAY_HINT_REFRESH] = refresh_hints
     register_lsp_features(client, features)
     return client
 
@@ -57,7 +62,8 @@ def capabilities(*, pull: bool = False, refresh: bool = True, watch: bool = Fals
                  snippets: bool = True,
                  encodings: tuple[str, ...] = ("utf-16",)) -> lsp.ClientCapabilities:
     """The tests' client capabilities. `pull`: the client can pull diagnostics, and with
-    `refresh` be asked to pull them again (as VS Code; Neovim pulls without `refresh`);
+    `refresh` be asked to pull them again (as VS Code; Neovim pulls without `refresh`), and
+    be asked to fetch inlay hints again (as VS Code);
     `watch`: it watches the files the server asks it to; `encodings`: the position
     encodings offered, in order of preference."""
     return lsp.ClientCapabilities(
@@ -65,7 +71,8 @@ def capabilities(*, pull: bool = False, refresh: bool = True, watch: bool = Fals
             did_change_watched_files=lsp.DidChangeWatchedFilesClientCapabilities(
                 dynamic_registration=True) if watch else None,
             diagnostics=lsp.DiagnosticWorkspaceClientCapabilities(refresh_support=True)
-            if pull and refresh else None),
+            if pull and refresh else None,
+            inlay_hint=lsp.InlayHintWorkspaceClientCapabilities(refresh_support=refresh)),
         text_document=lsp.TextDocumentClientCapabilities(
             completion=lsp.CompletionClientCapabilities(
                 completion_item=lsp.ClientCompletionItemOptions(snippet_support=snippets)),
@@ -79,11 +86,15 @@ def capabilities(*, pull: bool = False, refresh: bool = True, watch: bool = Fals
 
 
 async def start(client: LanguageClient, *, pull: bool = False,
-                encodings: tuple[str, ...] = ("utf-16",)) -> lsp.InitializeResult:
+                encodings: tuple[str, ...] = ("utf-16",),
+                verify: bool = False) -> lsp.InitializeResult:
     """Initialize the session; the result is kept as `client.init_result`, and the position
-    encoding the server chose as `client.encoding` (the tests' documents count in it)."""
+    encoding the server chose as `client.encoding` (the tests' documents count in it). The
+    background verification of scripts (server/background.py) is off unless `verify`: it
+    would only load the machine in the other modules."""
     client.init_result = await client.initialize_session(
-        lsp.InitializeParams(capabilities=capabilities(pull=pull, encodings=encodings)))
+        lsp.InitializeParams(capabilities=capabilities(pull=pull, encodings=encodings),
+                             initialization_options=None if verify else {"verify": False}))
     client.encoding = str(getattr(client.init_result.capabilities.position_encoding, "value",
                                   client.init_result.capabilities.position_encoding))
     return client.init_result

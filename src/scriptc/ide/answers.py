@@ -14,7 +14,7 @@ from scriptc.diagnostics.model import Diagnostic, TextEdit
 from scriptc.source import Span
 
 __all__ = ["CodeAction", "CompletionItem", "Fold", "Hover", "InlayHint", "RenameError",
-           "SemanticToken", "Symbol", "TextEdit"]
+           "SemanticToken", "Symbol", "TextEdit", "VerifyOverview"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -89,12 +89,27 @@ class CodeAction:
 
 @dataclass(frozen=True, slots=True)
 class InlayHint:
-    """Text shown at `offset` that is not in the file. `kind`: "path" or "duration"."""
+    """Text shown at `offset` that is not in the file. `kind`: "path", "duration" or
+    "verify" (what `scriptc verify` found)."""
 
     offset: int
     label: str
     kind: str
     tooltip: str = ""
+
+
+@dataclass(frozen=True, slots=True)
+class VerifyOverview:
+    """What `scriptc verify` found of a script, as the editor shows it (computed in the
+    background, `scriptc.ops.verify.overview`): the session's least and greatest time (ms;
+    `longest` None when unbounded or not known, `unbounded` when a run may never end), and
+    each goal's verdict by id: "reached" (a replayed run reaches it), "unreached" (no world
+    does: `why` says why) or "unknown"."""
+
+    shortest: int | None
+    longest: int | None
+    unbounded: bool
+    goals: tuple[tuple[str, str, str], ...]  # (goal id, verdict, why)
 
 
 class RenameError(Exception):

@@ -31,12 +31,16 @@ from scriptc.source import SourceKind
 from scriptc.writing import write_file
 
 if TYPE_CHECKING:
+    from scriptc.ide.answers import VerifyOverview
     from scriptc.verify.verdicts import Verification, Witness
 
-__all__ = ["DEFAULT_FOLDER", "FileVerification", "VerifyOptions", "VerifyRun", "verify_file",
-           "verify_paths"]
+__all__ = ["DEFAULT_FOLDER", "FileVerification", "VerifyOptions", "VerifyRun", "overview",
+           "verify_file", "verify_paths"]
 
 DEFAULT_FOLDER = "scriptc-verify"
+# The exploration's bound in the editor, where a verification runs in the background after
+# each pause in typing (the command line's is verify's MAX_RECORDS).
+EDITOR_MAX_STATES = 200_000
 # The library's rules that change no block and switch no script (docs/rules.md): verify
 # explores scripts under them exactly. Any other rule is assumed to leave the flow alone.
 _FLOW_NEUTRAL_RULES = {0: "kick_starter", 1: "safety_stop"}
@@ -243,3 +247,47 @@ def replay_command(script: str, scenario: str, until: int | None) -> str:
     if until is not None:
         words += ["--until", str(until)]
     return " ".join(shlex.quote(w) for w in words)
+
+
+def overview(path: str, text: str) -> VerifyOverview | None:
+    """What the editor shows of a verification of `text` (the document of `path`, under its
+    repository's setup): the duration range and each goal's verdict; None when the script
+    has errors or its configuration does (the editor shows those), or when verify cannot
+    run it. For the language server, which calls it in a worker process."""
+    from scriptc.analysis.analyze import analyze_source
+    from scriptc.ide.answers import VerifyOverview
+    from scriptc.runtime.configured import ConfiguredError, implementations_for, rules_for
+    from scriptc.runtime.interp import IRProgram
+    from scriptc.source import SourceFile
+    from scriptc.verify.model import Model
+    from scriptc.verify.verdicts import VIOLATED, verify_model
+    from scriptc.verify.witness import Runner
+
+    setup = setup_for(path)
+    if setup.failed:
+        return None
+    analysis = analyze_source(SourceFile(path, text), SourceKind.SCRIPT, setup.functions,
+                              setup.profile)
+    if analysis.script is None or has_errors(analysis.diagnostics):
+        return None
+    try:
+        functions, rules = implementations_for(setup.settings), rules_for(setup.settings)
+        program = checked_program(analysis, path)
+    except (ConfiguredError, Refused):
+        return None
+    model = Model(IRProgram(analysis.script, path), functions)
+    runner = Runner(program, functions, rules, setup.profile,
+                    os.path.dirname(os.path.abspath(path)))
+    verification = verify_model(model, runner, max_records=EDITOR_MAX_STATES)
+    goals = verification.finding("goals")
+    missing = {item.key: item.notes[0] if item.notes else "" for item in goals.items}
+    verdicts = []
+    for goalid in model.goal_ids:
+        if goalid in missing and goals.status == VIOLATED:
+            verdicts.append((goalid, "unreached", missing[goalid]))
+        elif goalid in verification.reached_goals:
+            verdicts.append((goalid, "reached", ""))
+        else:
+            verdicts.append((goalid, "unknown", ""))
+    return VerifyOverview(verification.duration_min, verification.duration_max,
+                          verification.unbounded, tuple(verdicts))

@@ -78,6 +78,7 @@ from scriptc.ide.checked import CheckedDocument
 from scriptc.ide.document import Document, TextDocument, configured_document
 from scriptc.project.config.load import CONFIG_FILES
 from scriptc.server import convert
+from scriptc.server.background import Background
 from scriptc.server.pyglsshim import (
     JsonRpcException,
     JsonRpcInternalError,
@@ -158,6 +159,9 @@ class ScriptcServer(LanguageServer):
         # `os.stat` saw them when it was read (None: absent): the server's own watch.
         self._stamps: dict[str, dict[str, tuple | None]] = {}
         self._poll: asyncio.TimerHandle | None = None
+        # `scriptc verify` of the open scripts, in a worker process (server/background.py).
+        self.background = Background(self.refresh_hints)
+        self.hint_refresh = False  # the client can be asked to fetch inlay hints again
 
     # -- documents ---------------------------------------------------------------------------
 
@@ -258,6 +262,22 @@ class ScriptcServer(LanguageServer):
         except RuntimeError:  # no event loop (handlers called directly)
             self._flush()
 
+    def verify_later(self, doc: Document | CheckedDocument) -> None:
+        """Verify the script `doc` in the background once it is still (not a test file)."""
+        if isinstance(doc, Document) and doc.uri.startswith("file:"):
+            uri = doc.uri
+
+            def current() -> Document | CheckedDocument:
+                return self.documents.get(uri, doc)
+
+            self.background.changed(uri, _path(uri), lambda: current().text,
+                                    lambda: current().version)
+
+    def refresh_hints(self) -> None:
+        """A verification came back: the client fetches the inlay hints again, if it can."""
+        if self.hint_refresh:
+            self.workspace_inlay_hint_refresh(None)
+
     def _flush(self) -> None:
         dirty, self._dirty = self._dirty, {}
         for uri, doc in dirty.items():
@@ -329,6 +349,12 @@ def initialize(ls: ScriptcServer, params: lsp.InitializeParams) -> None:
     completion_caps = text.completion if text is not None else None
     item_caps = completion_caps.completion_item if completion_caps is not None else None
     ls.snippets = bool(item_caps and item_caps.snippet_support)
+    workspace = capabilities.workspace if capabilities else None
+    inlay = workspace.inlay_hint if workspace is not None else None
+    ls.hint_refresh = bool(inlay and inlay.refresh_support)
+    options = params.initialization_options
+    if isinstance(options, dict) and options.get("verify") is False:
+        ls.background.enabled = False
     formats = (item_caps.documentation_format if item_caps is not None else None) or []
     ls.markdown_docs = lsp.MarkupKind.Markdown in formats
     # Load the grammar now rather than on the first keystroke.
@@ -346,6 +372,7 @@ def shutdown(ls: ScriptcServer, params: None) -> None:
     ls._dirty.clear()
     if ls._poll is not None:
         ls._poll.cancel()
+    ls.background.shutdown()
 
 
 # How often the server looks at the configuration files of the open documents itself (a few
@@ -413,6 +440,7 @@ def did_open(ls: ScriptcServer, params: lsp.DidOpenTextDocumentParams) -> None:
     item = params.text_document
     doc = ls.documents[item.uri] = ls.open_document(item.uri, item.text, item.version)
     ls.publish(doc)
+    ls.verify_later(doc)
 
 
 @SERVER.feature(lsp.TEXT_DOCUMENT_DID_CHANGE)
@@ -430,6 +458,7 @@ def did_change(ls: ScriptcServer, params: lsp.DidChangeTextDocumentParams) -> No
             doc.set_text(change.text)
     doc.version = params.text_document.version
     ls.publish(doc)
+    ls.verify_later(doc)
 
 
 @SERVER.feature(lsp.TEXT_DOCUMENT_DID_CLOSE)
@@ -437,6 +466,7 @@ def did_close(ls: ScriptcServer, params: lsp.DidCloseTextDocumentParams) -> None
     uri = params.text_document.uri
     ls.documents.pop(uri, None)
     ls._dirty.pop(uri, None)
+    ls.background.closed(uri)
     if ls.push:
         ls.text_document_publish_diagnostics(lsp.PublishDiagnosticsParams(uri=uri, diagnostics=[]))
 
@@ -609,7 +639,11 @@ def on_code_action(ls: ScriptcServer, params: lsp.CodeActionParams, at: At):
 @_request(lsp.TEXT_DOCUMENT_INLAY_HINT)
 def on_inlay_hint(ls: ScriptcServer, params: lsp.InlayHintParams, at: At):
     span = at.positions.span(params.range)
-    return convert.inlay_hints(at.positions, hints.inlay_hints(at.snapshot, span))
+    found = hints.inlay_hints(at.snapshot, span)
+    verified = ls.background.overview(at.document.uri, at.document.version)
+    if verified is not None:
+        found += hints.verify_hints(at.snapshot, verified, span)
+    return convert.inlay_hints(at.positions, found)
 
 
 # Formatting works on the document's own text (not the analysis text), so its edits are

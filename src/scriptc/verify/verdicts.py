@@ -77,6 +77,7 @@ class Item:
     span: Span
     message: str
     notes: tuple[str, ...] = ()
+    key: str = ""  # the goal's id, the block's path
 
 
 @dataclass
@@ -111,6 +112,7 @@ class Verification:
     replays: int
     seconds: float
     interrupted: bool = False  # Ctrl-C stopped the exploration or a replay
+    reached_goals: frozenset[str] = frozenset()  # goals a replay reached
 
     @property
     def states(self) -> int:
@@ -140,7 +142,8 @@ def verify_model(model: Model, runner: Runner, *, witnesses: Sequence[str] = (),
     asked = [judge.asked(name) for name in witnesses]
     return Verification(model, found, findings, judge.min, judge.max, judge.unbounded,
                         asked, runner.runs, time.perf_counter() - started,
-                        judge.stopped or found.bound == "interrupted")
+                        judge.stopped or found.bound == "interrupted",
+                        frozenset(judge.confirmed_goals))
 
 
 class _Judge:
@@ -389,7 +392,7 @@ class _Judge:
                 why = self._why_unreached_goal(g)
                 notes.append(f"goal `{model.goal_ids[g]}` is never reached: {why}")
                 items.append(Item(model.goal_spans[g], f"no world reaches the goal "
-                                  f"`{model.goal_ids[g]}`", (why,)))
+                                  f"`{model.goal_ids[g]}`", (why,), model.goal_ids[g]))
             span = model.goal_spans[missing[0]]
             if self.complete:
                 names = ", ".join(f"`{model.goal_ids[g]}`" for g in missing)
@@ -507,7 +510,8 @@ class _Judge:
             # The blocks of a goal no run enters are said with their goal (`goals`).
             entered = {s.goal for s in model.steps if found.known[s.index]}
             items = [Item(s.span, f"no world leads the reader to the block `{_name(s)}`",
-                          (whys[s.index],)) for s in missing if s.goal in entered]
+                          (whys[s.index],), s.address.path) for s in missing
+                     if s.goal in entered]
             return Finding("blocks", VIOLATED, f"{len(missing)} of {len(model.steps)} blocks "
                            "are read in no world", span, notes, items=items)
         if missing or unconfirmed:
