@@ -56,7 +56,7 @@ def test_it_is_a_composite_action_with_described_inputs() -> None:
     assert ACTION["runs"]["using"] == "composite"
     assert ACTION["name"] == "scriptc" and ACTION["description"]
     assert list(steps()) == ["Set up Python for scriptc", "Install scriptc", "scriptc lint",
-                             "scriptc test"]
+                             "scriptc test", "scriptc verify"]
     for name, spec in ACTION["inputs"].items():
         assert spec["description"] and isinstance(spec["default"], str), name
         assert spec.get("required", False) is False, name
@@ -97,6 +97,9 @@ def test_the_documented_workflows_use_the_action_with_its_inputs() -> None:
     ("scriptc test", {}, "test", {"paths": (".",), "format_": "github"}),
     ("scriptc test", {"test-args": "-k greeting -j 2"}, "test",
      {"paths": (".",), "format_": "github", "keyword": "greeting", "jobs": 2}),
+    ("scriptc verify", {}, "verify", {"paths": (".",), "format_": "github"}),
+    ("scriptc verify", {"paths": "activities", "verify-args": "--witness slowest"}, "verify",
+     {"paths": ("activities",), "format_": "github", "witnesses": ("slowest",)}),
 ])
 def test_the_steps_run_the_real_cli(step: str, inputs: dict[str, str], verb: str,
                                     options: dict) -> None:
@@ -112,6 +115,8 @@ def test_the_test_step_runs_after_a_failed_lint_but_not_without_scriptc() -> Non
     assert steps()["scriptc lint"]["if"] == "inputs.lint == 'true'"
     assert steps()["scriptc test"]["if"] == \
         "always() && inputs.test == 'true' && steps.install.outcome == 'success'"
+    assert steps()["scriptc verify"]["if"] == \
+        "always() && inputs.verify == 'true' && steps.install.outcome == 'success'"
     assert steps()["Install scriptc"]["id"] == "install"
 
 
@@ -149,6 +154,8 @@ def test_the_lint_and_test_steps_pass_then_fail_with_annotations(repository: Pat
     lint, test = step("scriptc lint"), step("scriptc test")
     assert (lint.returncode, lint.stdout) == (0, "")
     assert test.returncode == 0 and "PASS  activities/hello.test.toml" in test.stdout
+    verify = step("scriptc verify")
+    assert (verify.returncode, verify.stdout) == (0, "")  # every property proved: silent
     # A script with an error, and an example that no longer greets the child of its test.
     example = repository / "activities" / "hello.script"
     example.write_text(example.read_text(encoding="utf-8").replace("near(1.0)", "near(0.5)")
@@ -162,6 +169,13 @@ def test_the_lint_and_test_steps_pass_then_fail_with_annotations(repository: Pat
     test = step("scriptc test")
     assert test.returncode == 1 and "FAIL  activities/hello.test.toml" in test.stdout
     assert "\n::error file=activities/hello.test.toml,line=9,col=1," in test.stdout
+    # Without its time-out the example may wait for ever: verify says where.
+    example.write_text(example.read_text(encoding="utf-8").replace("TRJMP(done)", "TRJMP(idle)"),
+                       encoding="utf-8")
+    verify = step("scriptc verify")
+    assert verify.returncode == 1
+    assert verify.stdout.startswith("::error file=activities/hello.script,line=")
+    assert "Y001" in verify.stdout
     # The inputs reach the commands: a selection that leaves the failing test out passes.
     assert step("scriptc test", **{"test-args": "-k nothing-matches"}).returncode == 0
     assert step("scriptc lint", paths="scenarios").returncode == 0

@@ -28,7 +28,7 @@ def scaffold(tmp_path: Path, monkeypatch) -> Path:
     result = run("init", "repo")
     assert result.exit_code == 0, result.output
     assert result.stdout.splitlines() == [f"created {name}" for name, _ in FILES] + [
-        "next: cd repo && scriptc lint . && scriptc test"]
+        "next: cd repo && scriptc lint . && scriptc test && scriptc verify ."]
     return tmp_path / "repo"
 
 
@@ -91,12 +91,18 @@ def test_the_workflow_lints_then_tests_with_the_real_cli(scaffold: Path) -> None
                 for words in scriptc_commands(step.get("run", ""))]
     assert [(name, words[0]) for name, words in commands] == [
         ("Lint (annotations)", "lint"), ("Lint (SARIF for code scanning)", "lint"),
-        ("Test", "test")]
+        ("Test", "test"), ("Verify", "verify")]
     for _name, words in commands:
         parse(words)
     (test_step,) = [step for step in job["steps"] if step.get("name") == "Test"]
     assert test_step["if"] == "always() && steps.install.outcome == 'success'"
     assert test_step["run"] == "scriptc test . --format github"
+    (verify_step,) = [step for step in job["steps"] if step.get("name") == "Verify"]
+    assert verify_step["if"] == test_step["if"]
+    assert verify_step["run"] == "scriptc verify . --format github"
+    (keep,) = [step for step in job["steps"] if step.get("name") == "Keep the counterexamples"]
+    assert keep["uses"].startswith("actions/upload-artifact@")
+    assert keep["with"]["path"] == "scriptc-verify/"  # where verify writes its worlds
 
 
 def test_the_scaffolds_test_passes_and_pins_the_example(scaffold: Path, monkeypatch) -> None:
@@ -113,6 +119,21 @@ def test_the_scaffolds_test_passes_and_pins_the_example(scaffold: Path, monkeypa
     result = run("test")
     assert result.exit_code == 1
     assert "4 of 4 expectations failed" in result.stdout
+
+
+def test_the_scaffolds_activity_is_verified(scaffold: Path, monkeypatch) -> None:
+    """`scriptc verify .` in the new repository proves every property of the example: it
+    ends whatever the child does (the time-out), greets a child who comes, and lasts from
+    2.5 s (a child at the first look) to 32.5 s (a child at the last look, at 30.5 s, is
+    still greeted)."""
+    monkeypatch.chdir(scaffold)
+    result = run("verify", ".", "--json")
+    assert result.exit_code == 0, result.output
+    (found,) = [json.loads(line) for line in result.stdout.splitlines()]
+    assert {p["property"]: p["status"] for p in found["properties"]} == dict.fromkeys(
+        ("terminates", "goals", "blocks", "duration", "no-stall", "no-progress", "safety"),
+        "proved")
+    assert found["duration_ms"] == {"min": 2500, "max": 32500}
 
 
 def test_pre_commit_configuration_runs_real_verbs(scaffold: Path) -> None:
@@ -138,7 +159,7 @@ def test_init_in_the_working_folder_and_errors(tmp_path: Path, monkeypatch) -> N
     monkeypatch.chdir(tmp_path)
     result = run("init")
     assert result.exit_code == 0
-    assert result.stdout.endswith("next: scriptc lint . && scriptc test\n")
+    assert result.stdout.endswith("next: scriptc lint . && scriptc test && scriptc verify .\n")
     (tmp_path / "file").write_text("x")
     refused = run("init", "file")
     assert refused.exit_code == 2 and "is not a folder" in refused.stderr

@@ -60,13 +60,16 @@ ignore = []
 
 ACTIVITY = """\
 % hello: the robot idles until a child comes within a metre, then greets them with a half
-  turn and a green flash, and ends.
-  Lint it with `scriptc lint .`; compile it with `scriptc compile activities/hello.script`. %
+  turn and a green flash, and ends; after 30 s without a child it ends too.
+  Lint it with `scriptc lint .`; compile it with `scriptc compile activities/hello.script`;
+  `scriptc verify .` proves that it always ends, whatever the child does. %
 [hello]
 [goal:greet]
   [action]
     [b#idle#blk_inst: MV("0, 0, 0, 0, 500") LD() AO()]
-    [b#look#blk_jump: CND({CLASS #Human T ?kid (B: near(1.0))} ! {TRUE}) TRJMP(greet) FLSJMP(idle)]
+    [b#look#blk_jump: CND({CLASS #Human T ?kid (B: near(1.0))} ! {TRUE}) TRJMP(greet) FLSJMP()]
+    [b#wait#blk_jump: CND({CLASS #Activity T ?me (?THIS>&elapsedtime OP> 30000)} ! {TRUE})
+                      TRJMP(done) FLSJMP(idle)]
     [b#greet#blk_inst: MV("0, 0, 1.5, 0, 2000")
                        LD("0, 1, 0, 1, 0, 500", "0, 0, 0, 0, 500, 500")
                        AO()]
@@ -133,7 +136,8 @@ WORKFLOW = """\
 # diagnostic shows as an annotation on the changed lines (--format github) and as a
 # code-scanning alert (--format sarif, uploaded below); the second lint reads the first one's
 # cache, so it costs almost nothing. Then the tests (*.test.toml) run in simulated time: a
-# failing test fails the job, each failed expectation an annotation on its test file.
+# failing test fails the job, each failed expectation an annotation on its test file. Then
+# `scriptc verify` explores every world: a property violated fails the job, on its line.
 name: scriptc
 
 on:
@@ -171,6 +175,18 @@ jobs:
       - name: Test
         if: always() && steps.install.outcome == 'success'
         run: scriptc test . --format github
+      # Every world explored: each activity ends, reaches its goals, keeps within the robot's
+      # profile; a violation is an annotation, and the world that shows it is kept.
+      - name: Verify
+        if: always() && steps.install.outcome == 'success'
+        run: scriptc verify . --format github
+      - name: Keep the counterexamples
+        if: failure() && steps.install.outcome == 'success'
+        uses: actions/upload-artifact@v4
+        with:
+          name: scriptc-verify
+          path: scriptc-verify/
+          if-no-files-found: ignore
 """
 
 PRE_COMMIT = """\
@@ -273,7 +289,7 @@ def command(folder: str) -> None:
     lines += [f"skipped {name} (it exists)" for name in skipped]
     if written:
         where = "" if os.path.abspath(folder) == os.getcwd() else f"cd {folder} && "
-        lines.append(f"next: {where}scriptc lint . && scriptc test")
+        lines.append(f"next: {where}scriptc lint . && scriptc test && scriptc verify .")
     write("".join(line + "\n" for line in lines))
     if WORKFLOW_PATH in written and origin.requirement() is None:
         write(f"warning: {WORKFLOW_PATH} cannot install scriptc: {origin.reason}. Edit its step "
