@@ -1,4 +1,4 @@
-"""`scriptc run FILE... [--world FILE] [--until MS] [--trace FILE] [--robot NAME]
+"""`scriptc run FILE... [--world FILE] [--until MS] [--trace FILE[.mcap]] [--robot NAME]
 [--governor/--no-governor] [--plot FILE] [--executor vm|ir] [--json]`: run scripts as one
 session in simulated time (docs/runtime.md) on the MuJoCo robot (the default; `--robot
 kinematic` is the ideal robot), governed by the robot profile (docs/robot.md).
@@ -56,7 +56,8 @@ class ProgramRefused(CliError):
 @click.option("--until", "until", type=click.IntRange(min=0), metavar="MS",
               help="Stop at this simulated time (ms).")
 @click.option("--trace", "trace_path", metavar="FILE",
-              help="Write the trace as JSON lines (- for stdout).")
+              help="Write the trace as JSON lines (- for stdout), or as MCAP for Foxglove, "
+                   "Lichtblick and PlotJuggler when FILE ends in .mcap.")
 @click.option("--robot", "robot", default="mujoco", show_default=True, metavar="NAME",
               help="Robot backend: mujoco (the physics of the Teo/Oimi model) or kinematic "
                    "(exact integration).")
@@ -103,6 +104,19 @@ def command(ctx: click.Context, files: tuple[str, ...], world: str | None, until
             raise CliError("--plot needs matplotlib, which is not installed here; install it "
                            "into scriptc's environment with\n  "
                            + extra_install_command("plot", ["matplotlib"]))
+    # `--trace FILE.mcap` writes MCAP (the suffix chooses); `mcap` is a dependency of scriptc,
+    # but an environment made before it was may not have it.
+    as_mcap = trace_path is not None and trace_path.lower().endswith(".mcap")
+    if as_mcap:
+        import importlib.util
+
+        if importlib.util.find_spec("mcap") is None:
+            import shlex
+            import sys
+
+            raise CliError(f"--trace `{trace_path}`: writing MCAP needs the `mcap` package, "
+                           "which is not installed here; install it into scriptc's environment "
+                           f"with\n  {shlex.quote(sys.executable)} -m pip install 'mcap>=1.2,<2'")
     # Where the trace and the picture go is checked before the run, not after it.
     for output in (trace_path, plot_path):
         if output is not None:
@@ -153,7 +167,8 @@ def command(ctx: click.Context, files: tuple[str, ...], world: str | None, until
     except Exception as exc:  # a backend that cannot start (mujoco missing)
         raise CliError(f"robot `{robot}` cannot start: {exc}") from None
     recorder = None
-    if plot_path is not None:
+    # The MCAP file shows the robot where it was: its path is recorded as for the picture.
+    if plot_path is not None or as_mcap:
         from scriptc.runtime.plot import PathRecorder
 
         robot_backend = recorder = PathRecorder(robot_backend)
@@ -173,7 +188,13 @@ def command(ctx: click.Context, files: tuple[str, ...], world: str | None, until
     shown_path = None if trace_path in (None, "-") else trace_path
     if trace_path is not None:
         try:
-            write_output(trace_path, trace.text())
+            if as_mcap:
+                from scriptc.views.mcap import write_mcap
+
+                assert recorder is not None  # made for an .mcap trace
+                write_output(trace_path, write_mcap(trace.events, recorder.samples))
+            else:
+                write_output(trace_path, trace.text())
         except CliError as exc:
             unwritten.append(exc.format_message())
             shown_path = None

@@ -8,13 +8,15 @@ People and objects come from two places: the scenario's placed `entities` (a pat
 frame, drawn dashed from where they appear to where they are at the end) and the map updates
 of the run (`poses`: a distance and a bearing relative to the robot, as a sensor sends them;
 each turned into world coordinates with the robot's pose at that millisecond, so a scenario
-made of `updates` shows its people where the robot would have seen them).
+made of `updates` shows its people where the robot would have seen them). The MCAP file of a
+run (`--trace FILE.mcap`, views/mcap.py) places the robot and the people with the same
+functions.
 
 `PathRecorder` wraps a robot backend and samples its pose every `every_ms` of simulated time
 (the physics is stepped in those chunks: the same steps, so the same result; only `--plot`
-uses it). `draw_run` makes the figure from the recorded path, the trace's events and the
-scenario; `plot_run` writes it. matplotlib (the `plot` extra) is imported only inside them,
-with the non-interactive Agg backend.
+and `--trace FILE.mcap` use it). `draw_run` makes the figure from the recorded path, the
+trace's events and the scenario; `plot_run` writes it. matplotlib (the `plot` extra) is
+imported only inside them, with the non-interactive Agg backend.
 """
 
 from __future__ import annotations
