@@ -319,10 +319,25 @@ def test_ctrl_c_stops_at_once_with_what_was_decided(tmp_path: Path) -> None:
 
 # -- the examples -------------------------------------------------------------------------------
 
+def documented_durations() -> dict[str, tuple[int, int]]:
+    """The table of examples/README.md, "What `scriptc verify` proves": each activity's
+    shortest and longest session, in ms."""
+    import re
+
+    text = (EXAMPLES / "README.md").read_text(encoding="utf-8")
+    section = text.split("## What `scriptc verify` proves", 1)[1].split("\n## ", 1)[0]
+    rows = re.findall(r"^\| `(\w+)` \| ([\d.]+) s \| ([\d.]+) s \|$", section, re.MULTILINE)
+    return {name: (round(float(lo) * 1000), round(float(hi) * 1000)) for name, lo, hi in rows}
+
+
+def test_the_documented_table_names_every_example() -> None:
+    assert set(documented_durations()) == {p.stem for p in EXAMPLES.glob("*.script")}
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("name", sorted(p.stem for p in EXAMPLES.glob("*.script")))
 def test_every_example_is_verified(name: str) -> None:
-    """What docs/verify.md and examples/README.md say was proved of each example."""
+    """What examples/README.md says was proved of each example, and its session times."""
     from scriptc.ops.verify import VerifyOptions, verify_file
 
     result = verify_file(str(EXAMPLES / f"{name}.script"), VerifyOptions(counterexamples=None))
@@ -333,12 +348,8 @@ def test_every_example_is_verified(name: str) -> None:
         expected["blocks"] = VIOLATED  # and dances at 10 m/s (the thesis had no profile)
         expected["safety"] = VIOLATED
     assert found == expected
-    durations = {"approach": (2500, 37500), "greeting": (4000, 34000),
-                 "imitation": (7000, 12000), "joint_attention": (6000, 9000),
-                 "reward_dance": (3000, 5000), "test_act": (16000, 16000),
-                 "turn_taking": (8000, 28000)}
     v = result.verification
-    assert (v.duration_min, v.duration_max) == durations[name]
+    assert (v.duration_min, v.duration_max) == documented_durations()[name]
 
 
 # -- the law: verify and run agree ---------------------------------------------------------------
