@@ -37,6 +37,8 @@ The aspects (inputs, then what each writes beside them):
 - `verify`: `verify/NAME.script`: `NAME.verify`, the line of each property `scriptc verify`
   prints and the diagnostics of the verification (family Y), and `NAME.verify.json`, its
   result as data (harness/verify.py).
+- `graph`: `graph/NAME.script`: `NAME.dot` and `NAME.mmd`, the flow graph `scriptc graph` draws
+  in DOT and in Mermaid (harness/graph.py).
 
 `render/*.txt` are snapshots of the text renderer over hand-built diagnostics, written by
 tests/test_render.py through `expect`. A file under tests/cases/ that is neither an input, an
@@ -134,11 +136,11 @@ SUPPORT = ("scriptc.toml", "*.py")
 
 def checks() -> list[Check]:
     """Every check of every case, aspect by aspect."""
-    from harness import aspects, coverage, ide, runtime, testing, verify
+    from harness import aspects, coverage, graph, ide, runtime, testing, verify
 
     out: list[Check] = []
     for make in (*aspects.ASPECTS, ide.checks, runtime.checks, testing.checks, coverage.checks,
-                 verify.checks):
+                 verify.checks, graph.checks):
         out.extend(make())
     return out
 
