@@ -274,6 +274,41 @@ def test_text_shows_each_property_and_the_replay(folder: Path) -> None:
     assert "sets of instants explored" in out
     assert ("help: replay it: scriptc run stall.script --world "
             "scriptc-verify/stall.no-stall.world.json --until 1500") in out
+    assert ("wrote scriptc-verify/stall.no-stall.world.json (no-stall, confirmed by a "
+            "replay)") in out
+    done = run_cli(["verify", "stall.script", "--witness", "slowest"], folder)
+    assert "no run written for `--witness slowest`: no run ends at a greatest time" in done.stdout
+
+
+def test_a_terminal_sees_the_exploration_under_way(tmp_path: Path) -> None:
+    """On a terminal (stderr a pseudo-terminal here) a status line says how far the
+    exploration is; it goes away at the end, and stdout stays the report."""
+    import pty
+
+    sys.path.insert(0, str(ROOT / "bench"))
+    from generate import waiting_script
+
+    (tmp_path / "long.script").write_text(waiting_script(100), encoding="utf-8")
+    leader, follower = pty.openpty()
+    env = {k: v for k, v in os.environ.items() if k not in ("TERM", "NO_COLOR")}
+    proc = subprocess.Popen([sys.executable, "-m", "scriptc", "verify", "long.script"],
+                            cwd=tmp_path, stdout=subprocess.PIPE, stderr=follower,
+                            env={**env, "TERM": "xterm"})
+    os.close(follower)
+    seen = b""
+    while True:
+        try:
+            chunk = os.read(leader, 4096)
+        except OSError:  # the process closed the terminal
+            break
+        if not chunk:
+            break
+        seen += chunk
+    out, _ = proc.communicate(timeout=120)
+    os.close(leader)
+    assert proc.returncode == 0
+    assert b"verifying long.script: " in seen and b"sets of instants explored" in seen
+    assert out.decode().startswith("verify long.script\n")
 
 
 def test_the_counterexamples_replay_through_scriptc_run(folder: Path) -> None:

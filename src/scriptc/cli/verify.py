@@ -156,7 +156,12 @@ def _print(run: VerifyRun, format_: str, stats: bool) -> None:
         if found:
             write("\n" + render("text", [(file.analysis.source, found)], color=color))
         for name, path in file.written.items():
-            write(f"wrote {shown_path(path)} ({name}): {replays[name]}\n")
+            write(f"wrote {shown_path(path)} ({name}, confirmed by a replay): "
+                  f"{replays[name]}\n")
+        for witness in verification.witnesses:
+            if not witness.confirmed:
+                write(f"no run written for `--witness {witness.name.removeprefix('goal:')}`: "
+                      f"{witness.why}\n")
         write("\n" if run.files.index(file) < len(run.files) - 1 else "")
     if format_ in ("sarif", "github"):
         write(render(format_, reports, color=False))
