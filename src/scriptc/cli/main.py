@@ -34,6 +34,7 @@ VERBS: dict[str, tuple[str, str]] = {
                "Prove or refute what every run of a script does, for every world."),
     "merge": ("scriptc.cli.merge", "Merge the outputs of test shards (JUnit XML) into one."),
     "graph": ("scriptc.cli.graph", "Draw the flow of a script: DOT, Mermaid or SVG."),
+    "report": ("scriptc.cli.report", "Write the report of a run (one HTML page) from its trace."),
     "dis": ("scriptc.cli.dis", "Print the listing of a bytecode (.scb) file."),
     "fmt": ("scriptc.cli.fmt", "Format scripts in the canonical layout, comments kept."),
     "show-settings": ("scriptc.cli.show_settings",
