@@ -1,7 +1,8 @@
 """`scriptc run FILE... [--world FILE] [--until MS] [--trace FILE[.mcap]] [--robot NAME]
-[--governor/--no-governor] [--plot FILE] [--executor vm|ir] [--json]`: run scripts as one
-session in simulated time (docs/runtime.md) on the MuJoCo robot (the default; `--robot
-kinematic` is the ideal robot), governed by the robot profile (docs/robot.md).
+[--governor/--no-governor] [--plot FILE] [--report FILE.html] [--executor vm|ir] [--json]`:
+run scripts as one session in simulated time (docs/runtime.md) on the MuJoCo robot (the
+default; `--robot kinematic` is the ideal robot), governed by the robot profile
+(docs/robot.md); `--report` writes the run's report, one HTML page (docs/views.md).
 
 The files are queued in the order given and run one after the other; the run ends when every
 one has ended (it does not sit in `idle_activity`) or at `--until` (without it, after one hour
@@ -69,6 +70,9 @@ class ProgramRefused(CliError):
 @click.option("--plot", "plot_path", metavar="FILE",
               help="Draw the run (trajectory from above, timeline of the tracks) to FILE.png "
                    "or FILE.svg (needs matplotlib, scriptc's plot extra).")
+@click.option("--report", "report_path", metavar="FILE",
+              help="Write the report of the run to FILE (one HTML page: the room, the tracks, "
+                   "the events and the flow of each script, with one cursor).")
 @click.option("--executor", "executor", type=click.Choice(EXECUTORS), default="vm",
               show_default=True,
               help="How .script and .json files run: vm (compiled to bytecode, run by the VM) "
@@ -78,7 +82,7 @@ class ProgramRefused(CliError):
 @click.pass_context
 def command(ctx: click.Context, files: tuple[str, ...], world: str | None, until: int | None,
             trace_path: str | None, robot: str, governor: bool | None, plot_path: str | None,
-            executor: str, as_json: bool) -> None:
+            report_path: str | None, executor: str, as_json: bool) -> None:
     """Run scripts (.script, .json, .scb) as one session in simulated time.
 
     The files run one after the other, in the order given; the run ends when all have
@@ -118,7 +122,7 @@ def command(ctx: click.Context, files: tuple[str, ...], world: str | None, until
                            "which is not installed here; install it into scriptc's environment "
                            f"with\n  {shlex.quote(sys.executable)} -m pip install 'mcap>=1.2,<2'")
     # Where the trace and the picture go is checked before the run, not after it.
-    for output in (trace_path, plot_path):
+    for output in (trace_path, plot_path, report_path):
         if output is not None:
             check_output(output)
     scenario = None
@@ -158,7 +162,8 @@ def command(ctx: click.Context, files: tuple[str, ...], world: str | None, until
         functions, rules = implementations_for(settings), rules_for(settings)
     except ConfiguredError as exc:
         raise CliError(str(exc)) from None
-    trace = Trace(enabled=trace_path is not None or plot_path is not None)
+    trace = Trace(enabled=trace_path is not None or plot_path is not None
+                  or report_path is not None)
     if governor is None:
         governor = programs.governed_by_default(robot)
     profile = loaded.setup.profile if governor else None
@@ -167,8 +172,9 @@ def command(ctx: click.Context, files: tuple[str, ...], world: str | None, until
     except Exception as exc:  # a backend that cannot start (mujoco missing)
         raise CliError(f"robot `{robot}` cannot start: {exc}") from None
     recorder = None
-    # The MCAP file shows the robot where it was: its path is recorded as for the picture.
-    if plot_path is not None or as_mcap:
+    # The MCAP file and the report show the robot where it was: its path is recorded as for
+    # the picture.
+    if plot_path is not None or as_mcap or report_path is not None:
         from scriptc.runtime.plot import PathRecorder
 
         robot_backend = recorder = PathRecorder(robot_backend)
@@ -209,6 +215,16 @@ def command(ctx: click.Context, files: tuple[str, ...], world: str | None, until
             plot_run(trace.events, plot_path, recorder.samples, scenario)
         except WriteError as exc:
             unwritten.append(str(exc))
+    if report_path is not None:  # written when interrupted too, as the trace is
+        from scriptc.ops.report import run_report
+
+        assert recorder is not None  # made with `--report`
+        page, warnings = run_report(trace.events, files, loaded.analyses, recorder.samples)
+        write("".join(f"warning: {w}\n" for w in warnings), err=True)
+        try:
+            write_output(report_path, page)
+        except CliError as exc:
+            unwritten.append(exc.format_message())
     to_stderr = trace_path == "-"
     if as_json:
         text = summary_json(result, shown_path, capped)

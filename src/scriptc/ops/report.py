@@ -18,7 +18,7 @@ import os
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 
-from scriptc.analysis.analyze import analyze_file
+from scriptc.analysis.analyze import Analysis, analyze_file
 from scriptc.analysis.read import ReadError, read_bytes
 from scriptc.encoding import decode
 from scriptc.ir.nodes import Script
@@ -29,10 +29,11 @@ from scriptc.source import SourceKind
 from scriptc.testing.model import TestFile
 from scriptc.testing.run import ERROR, TestResult
 from scriptc.views.report import ScriptSource, report_html
+from scriptc.views.run_data import Sample
 from scriptc.writing import write_file
 
-__all__ = ["TraceError", "default_output", "find_sources", "read_trace", "test_page_name",
-           "write_test_reports"]
+__all__ = ["TraceError", "default_output", "find_sources", "read_trace", "run_report",
+           "test_page_name", "write_test_reports"]
 
 # What a trace is, for the messages that say a file is not one.
 _WHAT = ("a trace is JSON lines, one event each (an object with `t` and `event`), as "
@@ -159,6 +160,20 @@ def find_sources(events: Sequence[Event], trace_path: str | None = None, *,
             warnings.append(f"the script `{load.script}`: {why}; the page shows its run "
                             "without its flow")
     return sources, warnings
+
+
+def run_report(events: Sequence[Event], files: Sequence[str], analyses: Sequence[Analysis],
+               samples: Sequence[Sample] | None = None) -> tuple[str, list[str]]:
+    """The page of a run `scriptc run` just made (`run --report`): `files` as the command line
+    gave them, `analyses` those of its scripts that were read (`programs.Loaded.analyses`, in
+    the order of the files that are not bytecode), `samples` the path the robot took. Scripts
+    the run loaded by path on its own are found as `find_sources` finds them. The page and
+    the warnings."""
+    read = [f for f in files if SourceKind.of_path(f) is not SourceKind.BYTECODE]
+    known = {path: a.script for path, a in zip(read, analyses, strict=True)
+             if a.script is not None}
+    sources, warnings = find_sources(events, known=known)
+    return report_html(events, sources, samples=samples), warnings
 
 
 # -- the pages of a test run -------------------------------------------------------------------
