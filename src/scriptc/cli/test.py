@@ -13,6 +13,8 @@ TEST_SHARD_INDEX) runs one part of the tests, balanced by `--durations FILE`
 (`scriptc.testing.shard`). `--update` writes the snapshots of tests with `snapshot = true`
 (`scriptc.testing.snapshot`); `--coverage`, `--lcov FILE`, `--coverage-data FILE` and
 `--fail-under PERCENT` say what the tests reached of their scripts (`scriptc.ops.coverage`).
+`--report DIR` writes the report of each test's run into DIR, one HTML page each, and an
+`index.html` (`scriptc.ops.report.write_test_reports`).
 
 Exit status: 0 every test passed, 1 a test failed (or the coverage is under `--fail-under`),
 2 a test file or a script could not be loaded (or a path does not exist), 130 interrupted
@@ -87,12 +89,15 @@ FORMATS = ("text", "github")
 @click.option("--fail-under", "fail_under", type=click.FloatRange(0, 100), metavar="PERCENT",
               help="Fail (exit 1) when the blocks issued or the jump outcomes taken are under "
                    "PERCENT of all.")
+@click.option("--report", "report_dir", metavar="DIR",
+              help="Write the report of each test's run into DIR: one HTML page per test "
+                   "(the room, the tracks, the events, the flow) and an index.html.")
 @click.pass_context
 def command(ctx: click.Context, paths: tuple[str, ...], keyword: str | None, jobs: int | None,
             executor: str, quiet: bool, format_: str, junit_file: str | None,
             shard_text: str | None, durations_file: str | None, update: bool,
             show_coverage: bool, lcov_file: str | None, coverage_file: str | None,
-            fail_under: float | None) -> None:
+            fail_under: float | None, report_dir: str | None) -> None:
     """Run the tests (*.test.toml) under PATH... (default: the working folder).
 
     A test runs scripts in simulated time, in a world, and checks what the run did: events
@@ -111,6 +116,9 @@ def command(ctx: click.Context, paths: tuple[str, ...], keyword: str | None, job
                    coverage_file):
         if output is not None:
             check_output(output)
+    if report_dir is not None and os.path.exists(report_dir) and not os.path.isdir(report_dir):
+        raise CliError(f"--report `{report_dir}`: not a folder (the reports go into a folder, "
+                       "one page per test)")
     try:
         durations = read_durations(durations_file) if durations_file else None
     except ShardError as exc:
@@ -168,8 +176,24 @@ def command(ctx: click.Context, paths: tuple[str, ...], keyword: str | None, job
     if run.results:
         write(summary_line(run.results, run.wall_s, color=color))
     _write_outputs(run, junit_file, shard, durations_file, durations, executor, keyword, started)
+    if report_dir is not None and run.results:
+        _reports(run, report_dir)
     under = _coverage(run, show_coverage, lcov_file, coverage_file, fail_under)
     ctx.exit(1 if under and run.exit_code == 0 else run.exit_code)
+
+
+def _reports(run: TestRun, folder: str) -> None:
+    """The report of each test's run, in `folder` (`scriptc.ops.report.write_test_reports`)."""
+    from scriptc.ops.report import write_test_reports
+    from scriptc.writing import WriteError
+
+    try:
+        written, warnings = write_test_reports(run.tests, run.results, folder)
+    except (WriteError, OSError) as exc:
+        raise CliError(f"--report `{folder}`: {exc}") from None
+    write("".join(f"warning: {w}\n" for w in warnings), err=True)
+    write(f"wrote {len(written) - 1} reports of runs and their index, "
+          f"{os.path.join(folder, 'index.html')}\n", err=True)
 
 
 def _shard(text: str | None) -> Shard | None:
