@@ -26,9 +26,10 @@ def has_script_example(code: str) -> bool:
 # Run-time codes (family X) are reported by a run, not by lint: their examples are run
 # (tests/test_runtime_codes.py).
 RUN_TIME_CODES = [c.code for c in all_codes() if c.at_run_time]
-# Test files' codes (family T) show a test file, with the script it runs: checked below.
+# Test files' codes (family T) show a test file, with the script it runs, and verify's (family
+# Y) a script that `scriptc verify` refutes: both checked below.
 CHECK_CODES = [c for c in ALL_CODES if has_script_example(c) and c not in NOT_FROM_TEXT
-               and c not in RUN_TIME_CODES and not c.startswith("T")]
+               and c not in RUN_TIME_CODES and not c.startswith(("T", "Y"))]
 _NAME_ITEM = re.compile(r"\[[A-Za-z_][A-Za-z0-9_-]*\]$")
 
 
@@ -54,6 +55,7 @@ def test_the_examples_checked_cover_the_codes_of_scripts() -> None:
     """Every code but those of JSON, configuration and test files shows a script (J, C, T:
     other formats), and all of those are checked below (T's examples too)."""
     assert len(CHECK_CODES) >= 45
+    assert all(has_script_example(c) for c in VERIFY_CODES) and len(VERIFY_CODES) == 5
     others = {c for c in ALL_CODES if not has_script_example(c)}
     assert all(c[0] in "JCT" for c in others), others
 
@@ -80,6 +82,34 @@ def test_explanation_example_triggers_its_code(code: str) -> None:
             assert lookup(code).severity is found[0].severity
             return
         tried.append(f"{[d.code for d in analysis.diagnostics]}:\n{script}")
+    pytest.fail(f"{code}'s example gives " + "\nor ".join(tried))
+
+
+VERIFY_CODES = [c for c in ALL_CODES if c.startswith("Y")]
+
+
+@pytest.mark.parametrize("code", VERIFY_CODES)
+def test_verify_example_gives_its_code(code: str, tmp_path) -> None:
+    """A verification's example (a whole script, or completed into one), verified as `scriptc
+    verify` verifies it, gives its code among the diagnostics it prints."""
+    from scriptc.ops.verify import VerifyOptions, verify_file
+    from scriptc.verify.report import diagnostics
+
+    text = explanation(code)
+    written = text.split("## Example", 1)[1].split("```scriptc\n", 1)[1].split("```", 1)[0]
+    tried = []
+    for script in (written, example_script(text)):
+        path = tmp_path / "example.script"
+        path.write_text(script, encoding="utf-8")
+        result = verify_file(str(path), VerifyOptions(counterexamples=None))
+        if result.verification is None:
+            tried.append(f"not verified ({result.problem}):\n{script}")
+            continue
+        found = [d for d in diagnostics(result.verification, {}) if d.code == code]
+        if found:
+            assert lookup(code).severity is found[0].severity
+            return
+        tried.append(f"{[d.code for d in diagnostics(result.verification, {})]}:\n{script}")
     pytest.fail(f"{code}'s example gives " + "\nor ".join(tried))
 
 
