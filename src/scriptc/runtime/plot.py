@@ -100,12 +100,15 @@ def footprint_radius() -> float:
     return float(size.split()[0])
 
 
-def pose_at(samples: Sequence[Sample], t_ms: int) -> tuple[float, float, float]:
+def pose_at(samples: Sequence[Sample], t_ms: int, times: Sequence[int] | None = None
+            ) -> tuple[float, float, float]:
     """The robot's (x, y, theta) at `t_ms`, interpolated between the recorded samples (the
-    origin facing +x before any)."""
+    origin facing +x before any). `times`: the samples' times, when the caller asks for many
+    poses (made once, not at each call)."""
     if not samples:
         return 0.0, 0.0, 0.0
-    times = [s[0] for s in samples]
+    if times is None:
+        times = [s[0] for s in samples]
     i = bisect.bisect_right(times, t_ms)
     if i == 0:
         return samples[0][1:]
@@ -127,6 +130,7 @@ def map_positions(events: Iterable[Event], samples: Sequence[Sample]
     polar: dict[str, dict[str, float]] = {}
     paths: dict[str, list[tuple[int, float, float]]] = {}
     known: list[str] = []
+    times = [s[0] for s in samples]
     for e in events:
         if e.get("event") != "update" or e.get("status") != "applied":
             continue
@@ -143,7 +147,7 @@ def map_positions(events: Iterable[Event], samples: Sequence[Sample]
             if isinstance(value.get(key), (int, float)):
                 state[key] = float(value[key])
         if len(state) == 2:
-            x, y, theta = pose_at(samples, e["t"])
+            x, y, theta = pose_at(samples, e["t"], times)
             bearing = theta + state["positiontheta"]
             paths.setdefault(objectid, []).append(
                 (e["t"], x + state["positionrho"] * math.cos(bearing),

@@ -7,7 +7,8 @@ Every message is JSON (message encoding `json`) under a JSON Schema (schema enco
 the plottable channels a small schema of scriptc's own (`scriptc.Led`, `scriptc.Velocity`,
 `scriptc.Distance`). The topics, in the order the file registers them:
 
-- `/tf` (`foxglove.FrameTransform`): the robot's pose, `world` -> `base_link`;
+- `/tf` (`foxglove.FrameTransform`): the robot's pose, `world` -> `base_link`, at 10 Hz
+  while it moves (`POSE_EVERY_MS`);
 - `/robot/pose` (`foxglove.PoseInFrame`): the same pose in `world`;
 - `/robot/body` (`foxglove.SceneUpdate`): the robot's footprint, a cylinder locked to
   `base_link` (once, at 0);
@@ -36,10 +37,11 @@ input. The `mcap` package is imported only here, and only when a file is written
 from __future__ import annotations
 
 import io
+import json
 import math
 import re
 from collections.abc import Sequence
-from typing import Any
+from typing import Any, ClassVar
 
 from scriptc.numbers import JSONObject, json_dumps
 from scriptc.runtime.plot import Sample, footprint_radius, map_positions
@@ -326,6 +328,31 @@ def _thing(t_ms: int, objectid: str, x: float, y: float) -> JSONObject:
                    **{kind: [_shape(kind, size, colour, x, y)]})
 
 
+class _Things:
+    """The scene's entities as JSON text, from one template per entity (its look and name do
+    not change, only where it is and when): a scene of 10 messages a second for ten minutes
+    is mostly these."""
+
+    # Where the template has each value: a string no message holds ("\0x": a control
+    # character is always escaped in JSON).
+    _SLOTS: ClassVar[dict[str, str]] = {
+        "x": '"\\u0000x"', "y": '"\\u0000y"', "sec": '"\\u0000s"', "nsec": '"\\u0000n"'}
+
+    def __init__(self) -> None:
+        self.templates: dict[str, str] = {}
+
+    def text(self, t_ms: int, objectid: str, x: float, y: float) -> str:
+        template = self.templates.get(objectid)
+        if template is None:
+            entity = _thing(0, objectid, "\0x", "\0y")  # type: ignore[arg-type]  # slots
+            entity["timestamp"] = {"sec": "\0s", "nsec": "\0n"}
+            template = self.templates[objectid] = _dumps(entity)
+        slots = self._SLOTS
+        return (template.replace(slots["x"], _real(x)).replace(slots["y"], _real(y))
+                .replace(slots["sec"], str(t_ms // 1000))
+                .replace(slots["nsec"], str((t_ms % 1000) * 1_000_000)))
+
+
 _TOPIC_NAME = re.compile(r"[^A-Za-z0-9_-]")
 
 
@@ -347,8 +374,28 @@ class _File:
         return len(self.channels) - 1
 
     def add(self, t_ms: int, channel: int, message: JSONObject) -> None:
-        data = json_dumps(message, ensure_ascii=False, separators=(",", ":")).encode("utf-8")
-        self.messages.append((t_ms, channel, data))
+        self.add_text(t_ms, channel, _dumps(message))
+
+    def add_text(self, t_ms: int, channel: int, text: str) -> None:
+        """A message already written as JSON text (the many of the pose and the log)."""
+        self.messages.append((t_ms, channel, text.encode("utf-8")))
+
+
+# One encoder for the file's 100,000 messages (json.dumps would make one per message).
+_ENCODER = json.JSONEncoder(ensure_ascii=False, separators=(",", ":"), allow_nan=False)
+_string = json.encoder.encode_basestring  # a text as a JSON string, non-ASCII kept
+
+
+def _dumps(value: object) -> str:
+    try:
+        return _ENCODER.encode(value)
+    except ValueError:  # a number that is not finite: the number policy's error names it
+        return json_dumps(value)
+
+
+def _real(x: float) -> str:
+    """A coordinate as JSON writes it (Python's shortest repr), never NaN or an infinity."""
+    return repr(float(x)) if math.isfinite(x) else json_dumps(x)
 
 
 def _steps(out: _File, channel: int, changes: list[tuple[int, JSONObject]]) -> None:
@@ -390,26 +437,47 @@ def _velocity_changes(events: Sequence[Event]) -> list[tuple[int, JSONObject]]:
     return changes
 
 
+# The robot's pose in the file: a sample every 100 ms (10 Hz, the simulated sensor's default
+# rate, at which the people move in the scene) of the recorded path (every 20 ms) while it
+# moves; a still robot is its first and last sample still (nothing between them for a plot or
+# the 3D panel to move it through). The end of the run is always a sample.
+POSE_EVERY_MS = 100
+
+
 def _poses(samples: Sequence[Sample]) -> list[Sample]:
-    """The samples where the pose changed, with the first and the last."""
-    kept: list[Sample] = []
-    for sample in samples:
-        if not kept or sample[1:] != kept[-1][1:]:
-            kept.append(sample)
-    if samples and kept[-1] is not samples[-1]:
-        kept.append(samples[-1])
-    return kept
+    """The samples of the file's pose: those at a multiple of `POSE_EVERY_MS` and the last,
+    less those where the robot was still between two still ones."""
+    grid = [s for i, s in enumerate(samples)
+            if s[0] % POSE_EVERY_MS == 0 or i == len(samples) - 1]
+    return [s for i, s in enumerate(grid)
+            if i in (0, len(grid) - 1) or s[1:] != grid[i - 1][1:] or s[1:] != grid[i + 1][1:]]
 
 
-def _log(event: Event, scripts: dict[str, str]) -> JSONObject:
-    """A trace event as a log line: the kind as its name, the other fields as the message (the
-    event's JSON without `t` and `event`), the script's file when the event names a script."""
-    fields = {key: value for key, value in event.items() if key not in ("t", "event")}
+def _log(event: Event, scripts: dict[str, str]) -> str:
+    """A trace event as a log line (JSON text): the kind as its name, the other fields as the
+    message (the event's JSON without `t` and `event`), the script's file when the event names
+    a script."""
+    t = event["t"]
+    fields = _dumps({key: value for key, value in event.items() if key not in ("t", "event")})
     script = event.get("script")
-    return {"timestamp": _stamp(event["t"]), "level": level(event),
-            "message": json_dumps(fields, ensure_ascii=False, separators=(",", ":")),
-            "name": event["event"],
-            "file": scripts.get(script, "") if isinstance(script, str) else "", "line": 0}
+    file = scripts.get(script, "") if isinstance(script, str) else ""
+    return (f'{{"timestamp":{{"sec":{t // 1000},"nsec":{(t % 1000) * 1_000_000}}},'
+            f'"level":{level(event)},"message":{_string(fields)},'
+            f'"name":{_string(str(event["event"]))},"file":{_string(file)},"line":0}}')
+
+
+def _pose_texts(t: int, x: float, y: float, theta: float) -> tuple[str, str]:
+    """The robot's pose at `t` as a `foxglove.FrameTransform` and a `foxglove.PoseInFrame`
+    (JSON text: they are most of the file's messages)."""
+    stamp = f'{{"sec":{t // 1000},"nsec":{(t % 1000) * 1_000_000}}}'
+    position = f'{{"x":{_real(x)},"y":{_real(y)},"z":0.0}}'
+    z, w = _real(math.sin(theta / 2)), _real(math.cos(theta / 2))
+    rotation = f'{{"x":0.0,"y":0.0,"z":{z},"w":{w}}}'
+    transform = (f'{{"timestamp":{stamp},"parent_frame_id":"world",'
+                 f'"child_frame_id":"base_link","translation":{position},"rotation":{rotation}}}')
+    in_frame = (f'{{"timestamp":{stamp},"frame_id":"world","pose":{{"position":{position},'
+                f'"orientation":{rotation}}}}}')
+    return transform, in_frame
 
 
 def messages(events: Sequence[Event], samples: Sequence[Sample]
@@ -428,11 +496,9 @@ def messages(events: Sequence[Event], samples: Sequence[Sample]
     velocity = out.channel("/robot/velocity", "scriptc.Velocity")
 
     for t, x, y, theta in _poses(samples):
-        out.add(t, tf, {"timestamp": _stamp(t), "parent_frame_id": "world",
-                        "child_frame_id": "base_link",
-                        "translation": {"x": x, "y": y, "z": 0.0}, "rotation": _rotation(theta)})
-        out.add(t, pose, {"timestamp": _stamp(t), "frame_id": "world",
-                          "pose": _pose_json(x, y, 0.0, theta)})
+        transform, in_frame = _pose_texts(t, x, y, theta)
+        out.add_text(t, tf, transform)
+        out.add_text(t, pose, in_frame)
 
     radius = footprint_radius()
     size = (2 * radius, 2 * radius, 0.3)
@@ -444,13 +510,14 @@ def messages(events: Sequence[Event], samples: Sequence[Sample]
 
     placed, _no_position = map_positions(events, samples)
     where: dict[str, tuple[float, float]] = {}
+    things = _Things()
     moves = sorted((t, i, j, objectid, x, y) for i, (objectid, path) in enumerate(placed.items())
                    for j, (t, x, y) in enumerate(path))
     for i, (t, _i, _j, objectid, x, y) in enumerate(moves):
         where[objectid] = (x, y)
         if i + 1 == len(moves) or moves[i + 1][0] != t:
-            out.add(t, scene, {"deletions": [], "entities": [
-                _thing(t, name, *xy) for name, xy in where.items()]})
+            out.add_text(t, scene, '{"deletions":[],"entities":[' + ",".join(
+                things.text(t, name, *xy) for name, xy in where.items()) + "]}")
     lines = [_entity(0, "world", f"path:{objectid}", lines=[_line(
         [(x, y) for _t, x, y in path], _LOOKS.get(objectid.partition("/")[0], _OTHER_LOOK)[2])])
         for objectid, path in placed.items()]
@@ -460,7 +527,7 @@ def messages(events: Sequence[Event], samples: Sequence[Sample]
 
     scripts = {e["script"]: e["path"] for e in events if e["event"] == "script_load"}
     for event in events:
-        out.add(event["t"], log, _log(event, scripts))
+        out.add_text(event["t"], log, _log(event, scripts))
     _steps(out, led, _led_changes(events))
     _steps(out, velocity, _velocity_changes(events))
 
