@@ -479,3 +479,26 @@ def test_the_docs_mermaid_block_is_what_the_code_writes() -> None:
     analysis = analysed(ROOT / "examples" / "greeting.script")
     assert analysis.script is not None
     assert blocks[0] == to_mermaid(flow_graph(analysis.script, analysis.source))
+
+
+# -- the VS Code command (its behaviour: lsp/vscode/tests/graph.test.js, run by check.sh) ------
+
+VSCODE = ROOT / "lsp" / "vscode"
+
+
+def test_the_extension_declares_and_registers_the_graph_command() -> None:
+    import json
+
+    manifest = json.loads((VSCODE / "package.json").read_text(encoding="utf-8"))
+    (command,) = [c for c in manifest["contributes"]["commands"]
+                  if c["command"] == "scriptc.showGraph"]
+    assert command["title"] == "scriptc: Show the flow graph"
+    assert manifest["scripts"]["vscode:prepublish"] == "node scripts/vendor-mermaid.js"
+    code = (VSCODE / "extension.js").read_text(encoding="utf-8")
+    assert 'const GRAPH_COMMAND = "scriptc.showGraph";' in code
+    assert "registerCommand(GRAPH_COMMAND," in code
+    # The words it reads as "Graphviz is missing" are the CLI's (tested above).
+    assert "/apt-get install graphviz/.test(" in code
+    # Mermaid comes from the extension's own media/, never from the network.
+    assert not re.search(r"https?://[^\s\"']*mermaid", code)
+    assert 'const MERMAID = ["media", "mermaid.min.js"];' in code

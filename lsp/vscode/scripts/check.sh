@@ -41,8 +41,9 @@ grep -E '^# (pass|fail)' "$log"; rm -f "$log"
 echo "== vsix"
 rm -f scriptc.vsix
 npx --no-install vsce package --allow-missing-repository --out scriptc.vsix </dev/null
-# The package must hold the manifest, the client, the grammars, the language configurations
-# and the client library (a runtime dependency), and nothing of the tests or the dev tools.
+# The package must hold the manifest, the client, the grammars, the language configurations,
+# the client library (a runtime dependency) and Mermaid's bundle, and nothing of the tests or
+# the dev tools.
 python3 - <<'PY'
 import os, sys, zipfile
 names = zipfile.ZipFile("scriptc.vsix").namelist()
@@ -50,7 +51,10 @@ need = ["extension/package.json", "extension/extension.js", "extension/LICENSE.t
         "extension/syntaxes/scriptc.tmLanguage.json", "extension/language-configuration.json",
         "extension/syntaxes/scriptc-test.tmLanguage.json",
         "extension/test-language-configuration.json",
-        "extension/node_modules/vscode-languageclient/node.js"]
+        "extension/node_modules/vscode-languageclient/node.js",
+        # Mermaid, for the flow graph without Graphviz (scripts/vendor-mermaid.js, run by
+        # vsce's vscode:prepublish): shipped, never loaded from the network
+        "extension/media/mermaid.min.js", "extension/media/mermaid.LICENSE"]
 missing = [n for n in need if n not in names]
 unwanted = [n for n in names if n.startswith(("extension/tests/", "extension/scripts/"))
             or "/node_modules/vscode-tmgrammar-test/" in n or "/node_modules/@vscode/vsce" in n]
