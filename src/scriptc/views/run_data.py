@@ -11,15 +11,18 @@ give the same data.
 
 **The path from the trace (decided).** A trace has no poses but the last (`session_end`): it
 has every change of the velocity the wheels were given (`velocity`, body frame) and, with the
-governor, every change it made to it (`governor`: the speed limits, a late ramp's `target` and
-`ramp_ms`, a person too close). `reconstruct_path` follows those with the exact kinematics of
-`robot/motion.py`: speeds limited by the profile of `session_start`, each late ramp as the
-governor made it (per group of axes, at the profile's accelerations), each other change at once
-(a ramp the governor centred on a change covers the same distance). That is the kinematic
-robot's path exactly, with or without the governor; MuJoCo's differs by its physics (a few
-centimetres over ten minutes: `tests/test_views_report.py`), and a hold the governor released
-when a person moved away is not in the trace (the robot is held until the next command).
-`path_gap` says how far the reconstruction ends from the pose the run ended at.
+governor, every change it made to it (`governor`: the speed limits, a late ramp's `target`, a
+person too close). `reconstruct_path` rebuilds what the governor gave the robot, group of axes
+by group (`_changes`): a late ramp where a clamp says so; a change the limits allow in a
+millisecond at once; any other change a ramp centred on it (the only other ramp the governor
+makes, and the one it does not log); a ramp centred on a change that never came (the operator
+froze the block first) from where the next clamp says it had brought the robot. It follows
+that with the exact kinematics of `robot/motion.py`. That is the kinematic robot's path (within
+a micrometre; every runtime case's trace ends at its `session_end` pose, and the examples'
+recorded paths match); MuJoCo's differs by its physics (tens of micrometres on the examples,
+3 cm over the ten minutes of bench/bench_mujoco.py); a hold the governor released when a
+person moved away is not in the trace (the robot is held until the next command). `path_gap`
+says how far the reconstruction ends from the pose the run ended at, and the page says it.
 """
 
 from __future__ import annotations
@@ -35,6 +38,7 @@ from scriptc.robot.motion import (
     Kinematics,
     Ramp,
     Velocity,
+    centred_ms,
     limit_ms,
     limit_speed,
     rates_of,
@@ -140,69 +144,168 @@ def profile_of(events: Sequence[Event]) -> Profile | None:
 # -- the robot's path ---------------------------------------------------------------------------
 
 
-def _ramp(t: int, start: Velocity, target: Velocity, profile: Profile) -> Ramp | None:
-    """The governor's late ramp from `start` to `target` at `t`: each group of axes at the
-    profile's accelerations (`Shaper.late`)."""
+# The reason a clamp gives for a late ramp of each group of axes (`GROUPS`: plane, turn).
+_LATE = ("acceleration", "angular-acceleration")
+
+
+@dataclass(frozen=True, slots=True)
+class _Change:
+    """A group of axes heads for `values` from `at`: over `steps` ms (a centred ramp), or, when
+    `steps` is None, at the limit from the velocity it has then (a late ramp, or a step)."""
+
+    at: int
+    group: int
+    values: tuple[float, ...]
+    steps: int | None
+
+
+def _changes(events: Sequence[Event], profile: Profile | None) -> list[_Change]:
+    """What the governor did with the wheels, group by group, from the trace: every change the
+    governor ramped late is a `governor` event (its `target`); a change of a group that the
+    limits let it make at once (in a millisecond, from the velocity it has) is not; any other
+    change was a ramp centred on it (`Shaper.plan`: `centred_ms` milliseconds, starting half of
+    them before the change, from the velocity the plan expected before it)."""
+    commands: dict[int, Velocity] = {}
+    clamps: dict[int, Event] = {}
+    for e in events:
+        if e.get("event") == "velocity":
+            v = _velocity(e)
+            if v is not None:  # the last command of an instant is the one applied
+                commands[_t(e)] = v
+        elif e.get("event") == "governor" and profile is not None \
+                and _velocity(e.get("commanded")) is not None:
+            clamps[_t(e)] = e
+    out: list[_Change] = []
+    if profile is None:  # the wheels do what they are told, at once
+        for t in sorted(commands):
+            out += [_Change(t, g, commands[t][a[0]:a[-1] + 1], 0) for g, a in enumerate(GROUPS)]
+        return out
     rates = rates_of(profile)
-    steps = [0, 0, 0]
-    for axes in GROUPS:
+    groups = [_Group(len(axes)) for axes in GROUPS]
+    for t in sorted({*commands, *clamps}):
+        clamp = clamps.get(t)
+        target = _velocity(clamp.get("target")) if clamp is not None else None
+        reasons = clamp.get("reasons") if clamp is not None else None
+        reasons = reasons if isinstance(reasons, list) else []
+        if target is None:
+            asked = commands.get(t) or _velocity(clamp.get("commanded") if clamp else None)
+            if asked is None:
+                continue
+            target = limit_speed(asked, profile)[0]
+            if "human-distance" in reasons:
+                target = (0.0, 0.0, target[2])
+        for g, axes in enumerate(GROUPS):
+            lo, hi = axes[0], axes[-1] + 1
+            values, group = target[lo:hi], groups[g]
+            now = group.at(t)
+            applied = _velocity(clamp.get("applied")) if clamp is not None else None
+            if applied is not None and _LATE[g] in reasons \
+                    and max(abs(a - b) for a, b in zip(applied[lo:hi], now, strict=True)) > 1e-9:
+                # A ramp centred on a change that never came (the operator froze the block
+                # first): the trace says only where it had brought the group. It went there at
+                # the limit, ending now.
+                k = limit_ms(now, applied[lo:hi], rates[lo:hi])
+                group.head(max(0, t - k), now, applied[lo:hi], k)
+                out.append(_Change(max(0, t - k), g, applied[lo:hi], k))
+                now = applied[lo:hi]
+            elif values == group.target:
+                continue
+            n = limit_ms(now, values, rates[lo:hi])
+            if _LATE[g] in reasons or n <= 1:
+                group.head(t, now, values, n)
+                out.append(_Change(t, g, values, None))
+            else:
+                m = centred_ms(limit_ms(group.target, values, rates[lo:hi]))
+                at = max(0, t - (m - 1) // 2)
+                group.head(at, group.at(at), values, m)
+                out.append(_Change(at, g, values, m))
+    out.sort(key=lambda c: c.at)
+    return out
+
+
+class _Group:
+    """The velocity of one group of axes over time, as `_changes` rebuilds it: on `target`
+    from `t0 + steps`, ramping there from `start` before."""
+
+    def __init__(self, size: int) -> None:
+        self.t0, self.steps = 0, 0
+        self.start = self.target = (0.0,) * size
+
+    def at(self, t: int) -> tuple[float, ...]:
+        k = t - self.t0
+        if not self.steps or k >= self.steps:
+            return self.target
+        if k <= 0:
+            return self.start
+        return tuple(a + k * (b - a) / self.steps
+                     for a, b in zip(self.start, self.target, strict=True))
+
+    def head(self, t: int, now: tuple[float, ...], target: tuple[float, ...], steps: int) -> None:
+        self.t0, self.start, self.target = t, now, target
+        self.steps = steps if steps > 1 else 0
+
+
+class _Wheels:
+    """The velocity of each axis as the governor gives it (`Shaper._set`): a group's change
+    ramps its axes from the velocity they have, the other axes keep their ramps."""
+
+    def __init__(self, robot: Kinematics, profile: Profile | None) -> None:
+        self.robot = robot
+        self.rates = rates_of(profile) if profile is not None else (math.inf,) * 3
+        self.t0s = [0, 0, 0]
+        self.starts = [0.0, 0.0, 0.0]
+        self.targets = [0.0, 0.0, 0.0]
+        self.steps = [0, 0, 0]
+
+    def value(self, i: int, t: int) -> float:
+        k, n = t - self.t0s[i], self.steps[i]
+        if k <= 0 or not n:
+            return self.starts[i] if n else self.targets[i]
+        if k >= n:
+            return self.targets[i]
+        return self.starts[i] + k * (self.targets[i] - self.starts[i]) / n
+
+    def change(self, change: _Change) -> None:
+        at = change.at
+        self.robot.advance(at)
+        now = [self.value(i, at) for i in range(3)]
+        for i in range(3):
+            if self.steps[i] and at >= self.t0s[i] + self.steps[i]:
+                self.t0s[i], self.starts[i], self.steps[i] = at, self.targets[i], 0
+        axes = GROUPS[change.group]
         lo, hi = axes[0], axes[-1] + 1
-        n = limit_ms(start[lo:hi], target[lo:hi], rates[lo:hi])
-        for i in axes:
-            steps[i] = n if n > 1 and start[i] != target[i] else 0
-    return Ramp((t, t, t), start, target, steps) if any(steps) else None
+        n = change.steps if change.steps is not None else limit_ms(
+            now[lo:hi], change.values, self.rates[lo:hi])
+        for i, v in zip(axes, change.values, strict=True):
+            self.t0s[i], self.starts[i], self.targets[i] = at, now[i], v
+            self.steps[i] = n if n > 1 and now[i] != v else 0
+        target = (self.targets[0], self.targets[1], self.targets[2])
+        if any(self.steps):
+            self.robot.set_velocity(at, *target, ramp=Ramp(self.t0s, self.starts, target,
+                                                            self.steps))
+        else:
+            self.robot.set_velocity(at, *target)
 
 
 def reconstruct_path(events: Sequence[Event], every_ms: int = EVERY_MS) -> list[Sample]:
     """The robot's path from the trace's velocity changes (the module's docstring): a sample
-    every `every_ms` from 0 to `end_ms`, and at the end."""
-    profile = profile_of(events)
-    changes: dict[int, tuple[Velocity | None, Event | None]] = {}
-    for e in events:
-        kind = e.get("event")
-        if kind == "velocity":
-            v = _velocity(e)
-            if v is not None:  # the last command of an instant is the one applied
-                changes[_t(e)] = (v, changes.get(_t(e), (None, None))[1])
-        elif kind == "governor" and profile is not None and _velocity(e.get("commanded")):
-            changes[_t(e)] = (changes.get(_t(e), (None, None))[0], e)
+    every `every_ms` from 0 to `end_ms` (less often past `MAX_SAMPLES`), and at the end."""
     # Ramps that turn while they move by quadrature (within a micrometre: `Kinematics`).
     robot = Kinematics(exact=False)
+    wheels = _Wheels(robot, profile_of(events))
+    changes = _changes(events, profile_of(events))
     end = end_ms(events)
     every = max(every_ms, math.ceil(end / MAX_SAMPLES / every_ms) * every_ms)
     samples: list[Sample] = [(0, 0.0, 0.0, 0.0)]
-    times = sorted(t for t in changes if t <= end)
     i = 0
     for sample_t in [*range(every, end, every), end] if end > 0 else []:
-        while i < len(times) and times[i] <= sample_t:
-            at = times[i]
+        while i < len(changes) and changes[i].at <= sample_t:
+            wheels.change(changes[i])
             i += 1
-            robot.advance(at)
-            command, clamp = changes[at]
-            if clamp is not None and profile is not None:
-                _clamp(robot, at, clamp, profile)
-            elif command is not None:
-                robot.set_velocity(at, *(limit_speed(command, profile)[0]
-                                         if profile is not None else command))
         robot.advance(sample_t)
         p = robot.pose()
         samples.append((sample_t, p.x, p.y, p.theta))
     return samples
-
-
-def _clamp(robot: Kinematics, at: int, clamp: Event, profile: Profile) -> None:
-    """What the governor gave the robot at `at` (a `governor` event of a velocity): a late
-    ramp to its `target`, else the limits at once (translation held for a person too close)."""
-    target = _velocity(clamp.get("target"))
-    if target is not None:
-        start = _velocity(clamp.get("applied")) or robot.velocity
-        robot.set_velocity(at, *target, ramp=_ramp(at, start, target, profile))
-        return
-    v = limit_speed(_velocity(clamp.get("commanded")) or (0.0, 0.0, 0.0), profile)[0]
-    reasons = clamp.get("reasons")
-    if isinstance(reasons, list) and "human-distance" in reasons:
-        v = (0.0, 0.0, v[2])
-    robot.set_velocity(at, *v)
 
 
 def path_gap(samples: Sequence[Sample], events: Sequence[Event]) -> float | None:
