@@ -449,3 +449,28 @@ def test_every_run_is_one_the_exploration_found(text: str, world: list[tuple[int
         ends = found.end_times()
         assert not ends or ends.max() is None or ends.max() > 20000 \
             or any(r.times.is_infinite for rs in found.records for r in rs)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.data())
+def test_any_checked_script_is_verified_without_fault(data: st.DataObject) -> None:
+    """Scripts of every shape (rule messages with any rulecode, every kind of condition):
+    verify never fails, every property has one of the three verdicts, a violation of what
+    exists (a loop without end, a block outside the profile) is never said without its
+    replay, and the report renders."""
+    from strategies import scripts
+
+    from scriptc.diagnostics.render import render
+    from scriptc.verify.report import as_data, diagnostics
+
+    text = data.draw(scripts())
+    analysis = analyze_bytes("s.script", text.encode())
+    if analysis.script is None or any(d.severity.value == "error" for d in analysis.diagnostics):
+        return
+    v = verified(text, max_records=3000)
+    for f in v.findings:
+        assert f.status in (PROVED, VIOLATED, UNKNOWN)
+        if f.status == VIOLATED and f.property in ("no-stall", "safety", "no-progress"):
+            assert f.witness is not None and f.witness.confirmed
+    render("text", [(analysis.source, diagnostics(v, {}))])
+    json.dumps(as_data("s.script", v, {}, []))

@@ -173,7 +173,7 @@ class _Judge:
 
     def _replay(self, name: str, visits: list[Visit], claim: str,
                 check: Callable[[RunResult], str], until: int | None = None,
-                governed: bool = False, goes_on: bool = False) -> Witness:
+                governed: bool = False) -> Witness:
         """Make the world of `visits`, replay it, and ask `check` of the run ("" when it shows
         the claim, else why not)."""
         if name in self._witnesses:
@@ -187,7 +187,7 @@ class _Judge:
             return witness
         try:
             world = build_world(self.model, visits, self.runner, until=until,
-                                governed=governed, goes_on=goes_on)
+                                governed=governed)
         except interrupt.Interrupted:
             self.stopped = True
             world = Built(ok=False, why="interrupted during its replay")
@@ -346,7 +346,7 @@ class _Judge:
             return f"the replay ended `{result.outcome}` without the run-time error"
 
         witness = self._replay("no-progress", visits, f"the run goes round without time "
-                               f"passing at {t} ms", check, goes_on=True)
+                               f"passing at {t} ms", check)
         names = ", ".join(f"`{_name(self.model.steps[a])}`" for a, _ in cycle[:-1])
         status = VIOLATED if witness.confirmed else UNKNOWN
         detail = f"at {t} ms a run can go round {names} without time passing"

@@ -15,6 +15,7 @@ verify calls confirmed is what `scriptc run --world` shows.
 
 from __future__ import annotations
 
+import contextlib
 import itertools
 import math
 from collections.abc import Iterable, Iterator, Sequence
@@ -24,11 +25,11 @@ from typing import TYPE_CHECKING
 from scriptc import interrupt
 from scriptc.ir import nodes as ir
 from scriptc.numbers import JSONObject, JSONValue
-from scriptc.runtime.commands import as_number
+from scriptc.runtime.commands import as_number, format_number
 from scriptc.runtime.scenario import Scenario, TimedUpdate
 from scriptc.runtime.session import Session
 from scriptc.runtime.trace import Event, Trace
-from scriptc.runtime.world import ENTITY_CLASSES, parse_update
+from scriptc.runtime.world import ENTITY_CLASSES, UpdateError, parse_update
 from scriptc.verify.explore import ENDED, Visit
 from scriptc.verify.model import JUMP, Model
 
@@ -132,8 +133,7 @@ def asks_of(model: Model, visits: Sequence[Visit]) -> list[Ask]:
 
 
 def build_world(model: Model, visits: Sequence[Visit], runner: Runner, *,
-                until: int | None = None, governed: bool = False, max_runs: int = 40,
-                goes_on: bool = False) -> Built:
+                until: int | None = None, governed: bool = False, max_runs: int = 40) -> Built:
     """A world under which the runtime takes the path `visits` (see the module's docstring),
     every jump up to the path's last instant checked in the runtime's trace. The world is made
     whole, each instant's most likely choice first, and run once; where the run leaves the
@@ -141,9 +141,10 @@ def build_world(model: Model, visits: Sequence[Visit], runner: Runner, *,
     up to `max_runs` runs. Each run goes to `until` (None: the path's last instant, or the
     end of the session if it ends there), with the governor when `governed`: the run that
     took the path is the built world's `result`. A run that Ctrl-C stopped raises
-    `interrupt.Interrupted`. With `goes_on`, the run may read more jumps
-    at the path's last instant than the path has (a cycle that lets no time pass, followed
-    once by the path, goes round until the runtime gives up)."""
+    `interrupt.Interrupted`. The path's jumps must be the first the run reads: the run goes
+    on reading after the path's last block (its jump at the same instant, a cycle that lets
+    no time pass going round until the runtime gives up), and those jumps are not the
+    path's."""
     expected = expected_jumps(model, visits)
     instants = [(t, list(group)) for t, group in
                 itertools.groupby(asks_of(model, visits), key=lambda a: a.t)]
@@ -159,8 +160,7 @@ def build_world(model: Model, visits: Sequence[Visit], runner: Runner, *,
         if result.outcome == "interrupted":
             raise interrupt.Interrupted("interrupted (Ctrl-C)")
         actual = jumps_of(result.trace.events)
-        wrong = _first_difference(actual[:len(expected)] if goes_on else actual, expected,
-                                  last)
+        wrong = _first_difference(actual[:len(expected)], expected, last)
         if wrong is None:
             built.updates = updates
             built.result = result
@@ -438,38 +438,56 @@ class _Maker:
         return self._updates(bounds, t)
 
     def _updates(self, bounds: dict[str, dict[str, _Bounds]], t: int) -> list[TimedUpdate]:
+        """The updates that give each entity the values its bounds choose, each field in
+        the type the map holds it in (a value the map cannot take is left out: the replay
+        then says whether the path is taken without it)."""
         out: list[TimedUpdate] = []
+
+        def value(fields: dict[str, _Bounds], had: dict[str, object], name: str) -> JSONValue:
+            fallback = had.get(name, t if name == "positionchangetime" else _DEFAULTS[name])
+            chosen = fields[name].choose(name, t) if name in fields else fallback
+            return _typed(name, chosen, fallback)
+
+        def add(objectid: str, attribute: str, jsonmsg: JSONValue) -> None:
+            with contextlib.suppress(UpdateError):
+                out.append(TimedUpdate(t, parse_update(objectid, attribute, "R", jsonmsg),
+                                       len(out)))
+
         for objectid in sorted(bounds):
             fields = bounds[objectid]
             had = self.entities.get(objectid, {})
-            pose = {name: fields[name].choose(name, t) if name in fields else
-                    had.get(name, _DEFAULTS.get(name, t)) for name in _POSE}
-            pose["positionchangetime"] = (fields["positionchangetime"].choose(
-                "positionchangetime", t) if "positionchangetime" in fields else t)
-            out.append(_update(objectid, "poses", pose, t, len(out)))
+            add(objectid, "poses", {name: value(fields, had, name) for name in _POSE})
             if any(name in fields for name in _TRACKING):
-                tracking = {name: fields[name].choose(name, t) if name in fields else
-                            had.get(name, 0) for name in _TRACKING}
-                out.append(_update(objectid, "tracking", tracking, t, len(out)))
+                add(objectid, "tracking", {name: value(fields, had, name)
+                                           for name in _TRACKING})
             cls = objectid.split("/", 1)[0]
             for name in _SINGLE:
                 if name in fields and _has_attribute(cls, name):
-                    value = fields[name].choose(name, t)
-                    if name in ("isfixed", "istarget"):
-                        value = value in (True, "s_true")
-                    out.append(_update(objectid, name, value, t, len(out)))
+                    add(objectid, name, value(fields, had, name))
         return out
+
+
+def _typed(name: str, value: object, fallback: object) -> JSONValue:
+    """`value` as the map holds the field `name`: a number for a position, a whole number
+    for a time, a text for a category, a truth value for `isfixed` and `istarget`."""
+    if name in ("isfixed", "istarget"):
+        return value in (True, "s_true")
+    if name == "category":
+        if isinstance(value, (int, float)) and not isinstance(value, bool):
+            return format_number(value)
+        return str(value)
+    number = as_number(value) if isinstance(value, (int, float, str)) else None
+    if number is None:
+        number = as_number(fallback) if isinstance(fallback, (int, float, str)) else None
+    if number is None:
+        number = 0.0
+    return int(number) if name in _TIMES else number
 
 
 def _has_attribute(cls: str, name: str) -> bool:
     from scriptc.runtime.world import ATTRIBUTES
 
     return name in ATTRIBUTES.get(cls, {})
-
-
-def _update(objectid: str, attribute: str, value: JSONValue, t: int, index: int
-            ) -> TimedUpdate:
-    return TimedUpdate(t, parse_update(objectid, attribute, "R", value), index)
 
 
 def _objectid(cls: str, alias: str) -> str:
