@@ -39,6 +39,9 @@ The aspects (inputs, then what each writes beside them):
   result as data (harness/verify.py).
 - `graph`: `graph/NAME.script`: `NAME.dot` and `NAME.mmd`, the flow graph `scriptc graph` draws
   in DOT and in Mermaid (harness/graph.py).
+- `summary`: every expected trace of `runtime/`, `NAME[.VARIANT].trace.jsonl`:
+  `NAME[.VARIANT].summary.txt` and `NAME[.VARIANT].summary.it.md`, the session summary for the
+  therapist in English (text) and Italian (Markdown) (harness/summary.py).
 
 `render/*.txt` are snapshots of the text renderer over hand-built diagnostics, written by
 tests/test_render.py through `expect`. A file under tests/cases/ that is neither an input, an
@@ -136,11 +139,11 @@ SUPPORT = ("scriptc.toml", "*.py")
 
 def checks() -> list[Check]:
     """Every check of every case, aspect by aspect."""
-    from harness import aspects, coverage, graph, ide, runtime, testing, verify
+    from harness import aspects, coverage, graph, ide, runtime, summary, testing, verify
 
     out: list[Check] = []
     for make in (*aspects.ASPECTS, ide.checks, runtime.checks, testing.checks, coverage.checks,
-                 verify.checks, graph.checks):
+                 verify.checks, graph.checks, summary.checks):
         out.extend(make())
     return out
 
