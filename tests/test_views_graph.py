@@ -502,3 +502,77 @@ def test_the_extension_declares_and_registers_the_graph_command() -> None:
     # Mermaid comes from the extension's own media/, never from the network.
     assert not re.search(r"https?://[^\s\"']*mermaid", code)
     assert 'const MERMAID = ["media", "mermaid.min.js"];' in code
+
+
+def _extension_pages(views: list[dict], folder: Path) -> list[Path]:
+    """The extension's webview page (`graphHtml` of extension.js, run by node) for each view,
+    written into `folder`, the webview's own source being `file:`."""
+    import json
+    import subprocess
+
+    program = """
+const Module = require("node:module");
+const resolve = Module._resolveFilename;
+Module._resolveFilename = function (request, ...rest) {
+  if (request === "vscode" || request === "vscode-languageclient/node") return request;
+  return resolve.call(this, request, ...rest);
+};
+for (const name of ["vscode", "vscode-languageclient/node"]) {
+  require.cache[name] = { id: name, filename: name, loaded: true, exports: {} };
+}
+const { graphHtml } = require(process.argv[1]);
+const fs = require("node:fs");
+const [views, folder] = JSON.parse(fs.readFileSync(0, "utf8"));
+views.forEach((view, i) => {
+  fs.writeFileSync(`${folder}/page${i}.html`, graphHtml(view, "file:", "n0nce"));
+});
+"""
+    assert shutil.which("node"), "Node.js is needed (docs/editors.md)"
+    subprocess.run(["node", "-e", program, str(VSCODE / "extension.js")],
+                   input=json.dumps([views, str(folder)]).encode(), check=True, timeout=60)
+    return [folder / f"page{i}.html" for i in range(len(views))]
+
+
+@pytest.mark.browser
+@pytest.mark.packaging
+def test_mermaid_draws_every_graph_in_the_extensions_page_offline(tmp_path: Path) -> None:
+    """The Mermaid of every example and case, in the page the extension shows without
+    Graphviz, drawn by the Mermaid it ships (fetched once by scripts/vendor-mermaid.js, as
+    packaging the extension does) in headless Chromium: every node drawn, nothing asked of
+    the network, no problem in the page (a Content-Security-Policy violation included)."""
+    import subprocess
+
+    from chromium import Chromium
+
+    assert shutil.which("node"), "Node.js is needed (docs/editors.md)"
+    subprocess.run(["node", str(VSCODE / "scripts" / "vendor-mermaid.js")], check=True,
+                   timeout=300, stdin=subprocess.DEVNULL)
+    bundle = (VSCODE / "media" / "mermaid.min.js").as_uri()
+    graphs = []
+    for path in EXAMPLES + CASES:
+        analysis = analysed(path)
+        assert analysis.script is not None
+        graphs.append(flow_graph(analysis.script, analysis.source))
+    views = [{"kind": "mermaid", "mermaid": to_mermaid(g), "mermaidSrc": bundle,
+              "title": g.name} for g in graphs]
+    pages = _extension_pages(views, tmp_path)
+    with Chromium() as browser:
+        for graph, page in zip(graphs, pages, strict=True):
+            browser.open(page.as_uri())
+            browser.wait_for("document.querySelector('.graph svg') !== null")
+            drawn = browser.evaluate(
+                "[...document.querySelectorAll('.graph svg [id^=\"flowchart-\"]')]"
+                ".map(e => e.id.replace(/^flowchart-/, '').replace(/-\\d+$/, ''))")
+            assert sorted(set(drawn)) == sorted(n.id for n in graph.nodes), graph.name
+            text = browser.evaluate("document.querySelector('.graph svg').textContent")
+            assert "Syntax error" not in text
+            # Every text as the script has it: quotes, backslashes, brackets, emoji.
+            for node in graph.nodes:
+                for line in [node.title, *(line.text for line in node.lines)]:
+                    assert line in text, (graph.name, line)
+            for edge in graph.edges:
+                if edge.outcome and "…" not in "".join(
+                        condition_lines(f"{edge.outcome}: {edge.condition}")):
+                    assert f"{edge.outcome}: {edge.condition}" in text, (graph.name, edge)
+        assert browser.problems == []
+        assert all(url.startswith("file:") for url in browser.requests), browser.requests
