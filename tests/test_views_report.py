@@ -8,6 +8,7 @@ from __future__ import annotations
 import json
 import math
 import re
+import struct
 import sys
 from array import array
 from collections import Counter
@@ -294,8 +295,20 @@ def test_the_page_of_a_trace_alone_notes_a_reconstructed_path(tmp_path: Path) ->
     assert "reconstructed from the trace" in page
 
 
-def test_the_template_digest_names_the_template() -> None:
-    assert re.fullmatch(r"[0-9a-f]{64}", template_digest())
+def test_the_picture_in_the_docs_is_of_the_current_page() -> None:
+    """docs/img/report-approach.png is made by bench/report_screenshot.py from the template
+    whose digest it records beside it: a change to the page's template, style or script
+    needs a new picture."""
+    picture = ROOT / "docs" / "img" / "report-approach.png"
+    record = dict(line.split(" ", 1) for line in
+                  picture.with_suffix(".txt").read_text(encoding="utf-8").splitlines())
+    assert record["template"] == template_digest(), (
+        "the report's template changed since docs/img/report-approach.png was made: remake "
+        "it with `python bench/report_screenshot.py` (needs Chromium)")
+    data = picture.read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n" and data[12:16] == b"IHDR"
+    width, height = struct.unpack(">II", data[16:24])
+    assert f"{width}x{height}" == record["size"] and width == 1280 and height >= 1000
 
 
 # -- reading a trace and finding its scripts ------------------------------------------------------

@@ -16,6 +16,8 @@ from pathlib import Path
 
 import pytest
 
+from scriptc.views.report import ASSETS
+
 ROOT = Path(__file__).parent.parent
 
 
@@ -32,7 +34,8 @@ def test_wheel_ships_data_and_runs_anywhere(tmp_path: Path) -> None:
     for required in ("scriptc/grammar/script.lark", "scriptc/grammar/condition.lark",
                      "scriptc/schemas/thesis-script.schema.json",
                      "scriptc/diagnostics/explanations/L003.md",
-                     "scriptc/runtime/robots/teo.xml"):
+                     "scriptc/runtime/robots/teo.xml",
+                     *(f"scriptc/views/assets/{name}" for name in ASSETS)):
         assert required in names, f"{required} is not in the wheel"
 
     target = tmp_path / "site"

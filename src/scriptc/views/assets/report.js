@@ -113,6 +113,7 @@
     }
 
     const room = makeRoom(model, poseAt, setTime);
+    report.roomPoint = room.toPage;
     const flow = makeFlow(model, texts);
     const readout = document.getElementById("readout");
     const here = document.getElementById("here");
@@ -128,8 +129,8 @@
         width: width(), height: height,
         legend: { show: false },
         cursor: { sync: { key: SYNC, setSeries: false }, drag: { x: true, y: false },
-                  points: { show: false } },
-        scales: { x: { time: false, range: [0, end / 1000] } },
+                  points: { show: false }, y: false },
+        scales: { x: { time: false } },
         axes: [{ values: (u, ticks) => ticks.map(v => v + " s"), size: 34 }, {}],
         hooks: {
           setCursor: [u => onCursor(u)],
@@ -148,7 +149,7 @@
     function lanes(names) {
       const n = names.length;
       return {
-        scales: { x: { time: false, range: [0, end / 1000] }, y: { auto: false, range: [0, n] } },
+        scales: { x: { time: false }, y: { auto: false, range: [0, n] } },
         axes: [{ values: (u, ticks) => ticks.map(v => v + " s"), size: 34 },
                { splits: () => names.map((_, i) => n - i - 0.5), values: () => names.slice(),
                  grid: { show: false }, ticks: { show: false }, size: 76, gap: 4 }],
@@ -321,7 +322,7 @@
       if (s < u.scales.x.min || s > u.scales.x.max) {
         for (const c of report.charts) c.setScale("x", { min: 0, max: end / 1000 });
       }
-      u.setCursor({ left: u.valToPos(s, "x"), top: u.bbox.height / devicePixelRatio / 2 });
+      u.setCursor({ left: u.valToPos(s, "x"), top: u.bbox.height / devicePixelRatio / 2 }, true, true);
     }
 
     let lastLeft = null;
@@ -559,8 +560,14 @@
     for (const c of classes) item(CLASS_COLOURS[c] || "#9467bd", c);
     if (ends) item("#d62728", "✕ where the run ended");
 
+    // where a point of the room is on the page (client coordinates): for tests and tools
+    function toPage(x, y) {
+      const rect = canvas.getBoundingClientRect(), k = canvas.width / rect.width;
+      return [rect.left + X(x) / k, rect.top + Y(y) / k];
+    }
+
     resize();
-    return { draw: draw, resize: resize };
+    return { draw: draw, resize: resize, toPage: toPage };
   }
 
   // -- the flow -----------------------------------------------------------------------------
