@@ -277,3 +277,19 @@ def test_cli_refuses_an_mcap_file_in_a_missing_folder_before_the_run(tmp_path: P
     result = cli_run(tmp_path, str(tmp_path / "nowhere" / "run.mcap"))
     assert result.exit_code == 2
     assert "Traceback" not in result.output and "run.mcap" in result.output
+
+
+@pytest.mark.slow
+def test_mcap_is_imported_only_for_an_mcap_file(tmp_path: Path) -> None:
+    import subprocess
+    import sys
+
+    (tmp_path / "w.script").write_text(SCRIPT, encoding="utf-8")
+    probe = ("import sys\nfrom click.testing import CliRunner\nfrom scriptc.cli.main import cli\n"
+             "for name in sys.argv[1:]:\n"
+             "    CliRunner().invoke(cli, ['run', 'w.script', '--robot', 'kinematic', "
+             "'--trace', name])\n"
+             "    print(name, 'mcap' in sys.modules)\n")
+    done = subprocess.run([sys.executable, "-c", probe, "run.jsonl", "run.mcap"], cwd=tmp_path,
+                          capture_output=True, text=True, check=True)
+    assert done.stdout.split("\n")[:2] == ["run.jsonl False", "run.mcap True"]
