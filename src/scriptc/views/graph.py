@@ -32,6 +32,7 @@ import subprocess
 from collections.abc import Iterable
 from dataclasses import dataclass
 
+from scriptc.gcpause import gc_paused
 from scriptc.ir.nodes import (
     AudioCommand,
     Block,
@@ -146,6 +147,11 @@ def flow_graph(script: Script, source: SourceFile | None = None) -> Graph:
     """The flow graph of a script whose jump targets are labels it has (a checked script: an
     unknown label, L003, raises `scriptc.runtime.interp.JumpTargetError`). `source` gives the
     nodes their source lines."""
+    with gc_paused():  # many small objects, none in a cycle
+        return _flow_graph(script, source)
+
+
+def _flow_graph(script: Script, source: SourceFile | None) -> Graph:
     from scriptc.runtime.interp import IRProgram
 
     program = IRProgram(script)
