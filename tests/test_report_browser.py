@@ -15,8 +15,10 @@ from pathlib import Path
 
 import pytest
 from chromium import Chromium, available
-from test_views_report import EXAMPLES, ROOT, example, run_session
+from test_views_report import EXAMPLES, ROOT, example
 
+from scriptc.runtime.interp import IRProgram
+from scriptc.runtime.robots import make_robot
 from scriptc.views.report import ScriptSource, report_html
 
 pytestmark = [pytest.mark.browser, pytest.mark.slow]
@@ -131,16 +133,31 @@ def test_dragging_zooms_every_chart_alike(browser, approach_page):
 
 
 def test_a_ten_minute_session_renders(browser, tmp_path):
+    """bench/bench_run.py's activity: 601 blocks, three children, ten minutes."""
     sys.path.insert(0, str(ROOT / "bench"))
-    from bench_mujoco import activity
+    from bench_run import activity_text, scenario
 
-    events, _, script = run_session(activity(), robot="kinematic", until=700_000)
+    from scriptc.analysis.analyze import analyze_bytes
+    from scriptc.runtime.scenario import scenario_from_data
+    from scriptc.runtime.session import Session
+    from scriptc.runtime.trace import Trace
+
+    script = analyze_bytes("ten.script", activity_text().encode()).script
+    trace = Trace()
+    Session([IRProgram(script, "ten.script")], scenario=scenario_from_data(scenario(600_000)),
+            robot=make_robot("kinematic"), trace=trace).run(700_000)
     page = tmp_path / "ten.html"
-    page.write_text(report_html(events, [ScriptSource("ten_minutes", "a.script", script)]),
-                    encoding="utf-8")
+    page.write_text(report_html(trace.events, [ScriptSource("ten_minutes", "ten.script",
+                                                            script)]), encoding="utf-8")
     state = open_page(browser, page)
     assert browser.problems == [] and state["running"] == 1
-    browser.mouse_move(*chart_point(browser, 1, 300.0))
-    assert browser.evaluate(STATE)["time"] == pytest.approx(300_000, abs=1000)
+    assert browser.evaluate("scriptcReport.model.entities.length") == 3
+    browser.mouse_move(*chart_point(browser, 1, 500.0))
+    state = browser.evaluate(STATE)
+    assert state["time"] == pytest.approx(500_000, abs=1000)
+    # the block running then is far down the flow: scrolled to, drawn, highlighted
+    assert state["running"] == 1 and state["block"].startswith("goal8/")  # block 250 of 601
+    assert browser.evaluate("document.getElementById('flow').scrollTop") > 10_000
     print(f"\n10-minute session, {page.stat().st_size / 1e6:.2f} MB: ready "
-          f"{browser.evaluate('scriptcReport.readyAt'):.0f} ms after the page began to load")
+          f"{browser.evaluate('scriptcReport.readyAt'):.0f} ms after the page began to load; "
+          f"{browser.evaluate('JSON.stringify(scriptcReport.timings)')}")

@@ -20,7 +20,10 @@
 
   // -- the data -----------------------------------------------------------------------------
 
+  let loadStarted = 0;
+
   async function load() {
+    loadStarted = performance.now();
     const text = document.getElementById("run").textContent.trim();
     const bin = atob(text);
     const bytes = new Uint8Array(bin.length);
@@ -112,9 +115,14 @@
       return i >= 0 && t < track.e[i] ? i : (i >= 0 && t === track.e[i] && track.s[i] === t ? i : -1);
     }
 
+    const timings = report.timings = { data: started - loadStarted };
+    const lap = (() => { let last = performance.now(); return name => {
+      const now = performance.now(); timings[name] = now - last; last = now; }; })();
     const room = makeRoom(model, poseAt, setTime);
+    lap("room");
     report.roomPoint = room.toPage;
     const flow = makeFlow(model, texts);
+    lap("flow");
     const readout = document.getElementById("readout");
     const here = document.getElementById("here");
 
@@ -138,7 +146,11 @@
             if (key !== "x" || scaling) return;
             scaling = true;
             const min = u.scales.x.min, max = u.scales.x.max;
-            for (const c of report.charts) if (c !== u) c.setScale("x", { min: min, max: max });
+            for (const c of report.charts) {
+              if (c !== u && (c.scales.x.min !== min || c.scales.x.max !== max)) {
+                c.setScale("x", { min: min, max: max });
+              }
+            }
             scaling = false;
           }],
         },
@@ -179,18 +191,19 @@
       ctx.textBaseline = "middle";
       ctx.textAlign = "left";
       const tr = model.tracks;
+      const outlines = new Path2D();  // every segment's outline, stroked once
       const draw = (track, lane, paint) => {
         const [y, h] = laneBox(u, lane, 3);
-        for (let i = 0; i < track.s.length; i++) {
+        const first = Math.max(0, lastAtOrBefore(track.s, u.scales.x.min * 1000 - 1) - 1);
+        for (let i = first; i < track.s.length; i++) {
           const x0 = u.valToPos(track.s[i] / 1000, "x", true);
+          if (x0 > bb.left + bb.width) break;
           const x1 = Math.max(x0 + 1, u.valToPos(track.e[i] / 1000, "x", true));
-          if (x1 < bb.left || x0 > bb.left + bb.width) continue;
+          if (x1 < bb.left) continue;
           const label = paint(i);
           ctx.fillRect(x0, y, x1 - x0, h);
-          ctx.strokeStyle = "rgba(40,40,40,0.55)";
-          ctx.lineWidth = 1;
-          ctx.strokeRect(x0, y, x1 - x0, h);
-          if (label && ctx.measureText(label).width + 6 < x1 - x0) {
+          outlines.rect(x0, y, x1 - x0, h);
+          if (label && x1 - x0 > 24 * devicePixelRatio && ctx.measureText(label).width + 6 < x1 - x0) {
             ctx.fillStyle = label.dark ? "#fff" : "#111";
             ctx.fillText(label, Math.max(x0, bb.left) + 3, y + h / 2);
           }
@@ -220,28 +233,48 @@
         ctx.fillStyle = name === "Silence" ? "#eeeeee" : "#ffb347";
         return name;
       });
+      ctx.strokeStyle = "rgba(40,40,40,0.55)";
+      ctx.lineWidth = 1;
+      ctx.stroke(outlines);
       // the blocks issued: a dotted line each
       ctx.strokeStyle = "rgba(90,90,90,0.55)";
       ctx.setLineDash([2, 3]);
       const v = model.visits;
+      ctx.beginPath();
+      let lastX = -1;
       for (let i = 0; i < v.t.length; i++) {
         if (v.kind[i] !== ISSUED) continue;
         const x = Math.round(u.valToPos(v.t[i] / 1000, "x", true)) + 0.5;
-        ctx.beginPath();
+        if (x === lastX || x < bb.left || x > bb.left + bb.width) continue;
+        lastX = x;
         ctx.moveTo(x, bb.top);
         ctx.lineTo(x, bb.top + bb.height);
-        ctx.stroke();
       }
+      ctx.stroke();
       ctx.restore();
     }
 
     // Velocity: the commanded steps and the speed along the path.
+    lap("tracks");
+    // Velocity: the commanded steps, each at its millisecond, and the speed along the path,
+    // over stretches of the path (at most SPEED_POINTS of them: a chart is not wider).
     const vel = model.velocity;
+    const SPEED_POINTS = 2500;
+    const n = path.t.length;
+    const cum = new Float64Array(n);  // the distance along the path up to each sample
+    for (let i = 1; i < n; i++) {
+      cum[i] = cum[i - 1] + Math.hypot(path.x[i] - path.x[i - 1], path.y[i] - path.y[i - 1]);
+    }
+    const every = Math.max(1, Math.ceil(n / SPEED_POINTS));
+    const marks = [];  // the samples that end the stretches
+    for (let i = 0; i < n; i += every) marks.push(i);
+    if (n && marks[marks.length - 1] !== n - 1) marks.push(n - 1);
+    const markT = marks.map(i => path.t[i]);
     const xs = [];
     {
       let i = 0, j = 0;
-      while (i < path.t.length || j < vel.t.length) {
-        const a = i < path.t.length ? path.t[i] : Infinity, b = j < vel.t.length ? vel.t[j] : Infinity;
+      while (i < markT.length || j < vel.t.length) {
+        const a = i < markT.length ? markT[i] : Infinity, b = j < vel.t.length ? vel.t[j] : Infinity;
         const t = Math.min(a, b);
         if (!xs.length || xs[xs.length - 1] !== t) xs.push(t);
         if (a === t) i++;
@@ -255,14 +288,15 @@
       vx.push(k >= 0 ? vel.vx[k] : 0);
       vy.push(k >= 0 ? vel.vy[k] : 0);
       vw.push(k >= 0 ? vel.vw[k] : 0);
-      // along the path: the speed over the stretch of the path that ends at or after t (drawn
-      // as a step back to the point before)
-      let p = lastAtOrBefore(path.t, t);
-      if (p >= 0 && path.t[p] === t && p > 0) p--;
-      if (p < 0 || p + 1 >= path.t.length) { along.push(0); continue; }
-      const dt = (path.t[p + 1] - path.t[p]) / 1000;
-      along.push(dt > 0 ? Math.hypot(path.x[p + 1] - path.x[p], path.y[p + 1] - path.y[p]) / dt : 0);
+      // along the path: the mean speed over the stretch that ends at or after t (drawn as a
+      // step back to the point before)
+      let p = lastAtOrBefore(markT, t);
+      if (p >= 0 && markT[p] === t && p > 0) p--;
+      if (p < 0 || p + 1 >= marks.length) { along.push(0); continue; }
+      const dt = (markT[p + 1] - markT[p]) / 1000;
+      along.push(dt > 0 ? (cum[marks[p + 1]] - cum[marks[p]]) / dt : 0);
     }
+    lap("series");
     const stepped = uPlot.paths.stepped({ align: 1 });
     const speed = new uPlot(common(170, {
       legend: { show: true, live: true },
@@ -277,6 +311,7 @@
       axes: [{ values: (u, ticks) => ticks.map(v => v + " s"), size: 34 }, { size: 50 }],
     }), [xs.map(t => t / 1000), vx, vy, vw, along], document.getElementById("speed"));
 
+    lap("speed");
     // Events: a lane each (script, jumps, rules, operator, governor, errors).
     const laneNames = model.lanes;
     const mk = model.markers;
@@ -312,6 +347,7 @@
     }
 
     report.charts.push(tracks, speed, events);
+    lap("events");
 
     // -- the cursor -----------------------------------------------------------------------
 
@@ -392,6 +428,7 @@
     });
 
     show(0, 0);
+    lap("cursor");
     report.readyMs = performance.now() - started;  // drawing, after the data was read
     report.readyAt = performance.now();  // since the page began to load
     report.ready = true;
@@ -572,17 +609,27 @@
 
   // -- the flow -----------------------------------------------------------------------------
 
+  // The flow of a script: its blocks in order (a box each, grouped by goal), each jump's true
+  // edge on the right and false edge on the left, the next block below. The boxes near the
+  // scrolled view are drawn (a script of thousands of blocks stays quick); the edges always.
   function makeFlow(model, texts) {
     const box = document.getElementById("flow");
     const pick = document.getElementById("flow-pick");
     const visits = model.visits;
-    const W = 300, H = 36, GAP = 16, LEFT = 96, TOP = 10;
-    let current = -1, nodes = [], edges = [], marked = [], lastKey = null, lastText = "-";
+    const W = 300, H = 36, GAP = 16, LEFT = 96, TOP = 10, MARGIN = 700;
+    let current = -1, edges = [], marked = [], lastKey = null, lastText = "-";
+    let ys = [], layer = null, drawn = [-1, -1], nodes = new Map(), classes = new Map();
 
     model.flows.forEach((f, i) => pick.appendChild(el("option", { value: String(i) },
                                                       f.script + (f.path ? " (" + f.path + ")" : ""))));
     pick.addEventListener("change", () => { render(Number(pick.value)); lastKey = null; });
     if (!model.flows.length) pick.hidden = true;
+    let pending = false;
+    box.addEventListener("scroll", () => {
+      if (pending) return;
+      pending = true;
+      requestAnimationFrame(() => { pending = false; drawBoxes(); });
+    });
 
     function clip(text, n) { return text.length > n ? text.slice(0, n - 1) + "…" : text; }
 
@@ -590,7 +637,8 @@
       current = i;
       pick.value = String(i);
       box.textContent = "";
-      nodes = []; edges = []; marked = [];
+      edges = []; marked = []; ys = []; layer = null; drawn = [-1, -1];
+      nodes = new Map(); classes = new Map();
       const f = model.flows[i];
       if (!f) { box.appendChild(el("p", {}, "No script was loaded.")); return; }
       if (!f.blocks.length) {
@@ -598,7 +646,6 @@
         return;
       }
       const blocks = f.blocks, n = blocks.length;
-      const ys = [];
       let y = TOP, goal = -1, action = -1;
       const heads = [];
       for (let b = 0; b < n; b++) {
@@ -652,7 +699,25 @@
         }
         edges.push(out);
       }
-      for (let b = 0; b < n; b++) {
+      layer = svg("g", { class: "boxes" });
+      s.appendChild(layer);
+      s.appendChild(svg("rect", { class: "block end", x: LEFT + W / 2 - 40, y: endY, width: 80, height: H * 0.7, rx: 10 }));
+      s.appendChild(svg("text", { x: LEFT + W / 2, y: endY + H * 0.45, "text-anchor": "middle", class: "kind" }, "past the end"));
+      box.appendChild(s);
+      drawBoxes();
+    }
+
+    // The boxes of the blocks within MARGIN pixels of the view.
+    function drawBoxes() {
+      if (!layer) return;
+      const blocks = model.flows[current].blocks;
+      const lo = Math.max(0, lastAtOrBefore(ys, box.scrollTop - MARGIN));
+      const hi = Math.min(ys.length - 1, lastAtOrBefore(ys, box.scrollTop + box.clientHeight + MARGIN));
+      if (lo === drawn[0] && hi === drawn[1]) return;
+      drawn = [lo, hi];
+      for (const [b, g] of nodes) if (b < lo || b > hi) { g.parentNode.remove(); nodes.delete(b); }
+      for (let b = lo; b <= hi; b++) {
+        if (nodes.has(b)) continue;
         const [where, kind, label, text, , , , , reachable, never, detail, colours] = blocks[b];
         const g = svg("g", reachable ? {} : { class: "unreachable" });
         const rect = svg("rect", { class: "block " + kind, x: LEFT, y: ys[b], width: W, height: H, rx: kind === "jump" ? 10 : 3 });
@@ -669,23 +734,31 @@
           g.appendChild(svg("rect", { class: "light", x: LEFT + W - 6 - 12 * (colours.length - k), y: ys[b] + 21,
                                       width: 10, height: 10, rx: 2, fill: colour }));
         });
-        s.appendChild(g);
-        nodes.push(rect);
+        for (const cls of classes.get(b) || []) rect.classList.add(cls);
+        layer.appendChild(g);
+        nodes.set(b, rect);
       }
-      const last = svg("rect", { class: "block end", x: LEFT + W / 2 - 40, y: endY, width: 80, height: H * 0.7, rx: 10 });
-      s.appendChild(last);
-      s.appendChild(svg("text", { x: LEFT + W / 2, y: endY + H * 0.45, "text-anchor": "middle", class: "kind" }, "past the end"));
-      box.appendChild(s);
     }
 
     function clear() {
       for (const [node, cls] of marked) node.classList.remove(cls);
       marked = [];
+      for (const [b, list] of classes) {
+        const node = nodes.get(b);
+        if (node) for (const cls of list) node.classList.remove(cls);
+      }
+      classes = new Map();
     }
-    function mark(node, cls) {
+    function markEdge(node, cls) {
       if (!node) return;
       node.classList.add(cls);
       marked.push([node, cls]);
+    }
+    function markBlock(b, cls) {
+      if (!classes.has(b)) classes.set(b, []);
+      classes.get(b).push(cls);
+      const node = nodes.get(b);
+      if (node) node.classList.add(cls);
     }
 
     // Highlight the block running at t: the last instruction block issued at or before t (of
@@ -722,27 +795,25 @@
       lastKey = key;
       if (f >= 0 && f !== current) render(f);
       clear();
-      if (where) {
-        mark(nodes[block], done ? "was" : "running");
-        scrollTo(block);
-      }
+      if (where) markBlock(block, done ? "was" : "running");
       for (const k of jumps) {
         const b = visits.block[k];
         if (b < 0) continue;
         const value = visits.kind[k] === JUMP_TRUE;
-        mark(nodes[b], value ? "jumped-true" : "jumped-false");
-        if (edges[b]) mark(edges[b][value ? 0 : 1], "taken");
+        markBlock(b, value ? "jumped-true" : "jumped-false");
+        if (edges[b]) markEdge(edges[b][value ? 0 : 1], "taken");
       }
+      if (where) scrollTo(block);
       return where ? where[0] : null;
     }
 
     function scrollTo(b) {
-      const node = nodes[b];
-      if (!node) return;
-      const y = Number(node.getAttribute("y"));
+      const y = ys[b];
+      if (y === undefined) return;
       if (y < box.scrollTop + 10 || y + H > box.scrollTop + box.clientHeight - 10) {
         box.scrollTop = Math.max(0, y - box.clientHeight / 3);
       }
+      drawBoxes();
     }
 
     if (model.flows.length) render(0);
