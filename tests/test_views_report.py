@@ -391,14 +391,14 @@ def test_scriptc_report_summary(tmp_path: Path, monkeypatch) -> None:
     monkeypatch.chdir(tmp_path)
     result = CliRunner().invoke(cli, ["report", "run.jsonl", "--summary", "--lang", "it",
                                       "--markdown"])
-    try:
-        from scriptc.views.summary import summarize  # another module of issue 16
-    except ImportError:
-        assert result.exit_code == 2 and "summary is not part of this scriptc" in result.output
-        return
+    from scriptc.views.summary import summarize
+
     assert result.exit_code == 0, result.output
     assert result.stdout == summarize(events, lang="it", markdown=True)
     assert not Path("run.html").exists()  # the page only with -o
+    both = CliRunner().invoke(cli, ["report", "run.jsonl", "--summary", "-o", "run.html"])
+    assert both.exit_code == 0 and both.stdout == summarize(events)
+    assert model_of_page(Path("run.html").read_text(encoding="utf-8"))[0]["end"] > 0
 
 
 @pytest.mark.slow

@@ -53,12 +53,8 @@ def command(trace: str, output: str | None, summary: bool, lang: str, markdown: 
     except (ReadError, TraceError) as exc:
         raise CliError(str(exc)) from None
     if summary:
-        import importlib
+        from scriptc.views.summary import summarize
 
-        try:  # views/summary.py: the summary's own module (imported only for --summary)
-            summarize = importlib.import_module("scriptc.views.summary").summarize
-        except ModuleNotFoundError:
-            raise CliError("the session summary is not part of this scriptc yet") from None
         write(summarize(events, lang=lang, markdown=markdown))
     if page is None:
         return
