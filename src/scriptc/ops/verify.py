@@ -41,9 +41,6 @@ DEFAULT_FOLDER = "scriptc-verify"
 # The exploration's bound in the editor, where a verification runs in the background after
 # each pause in typing (the command line's is verify's MAX_RECORDS).
 EDITOR_MAX_STATES = 200_000
-# The library's rules that change no block and switch no script (docs/rules.md): verify
-# explores scripts under them exactly. Any other rule is assumed to leave the flow alone.
-_FLOW_NEUTRAL_RULES = {0: "kick_starter", 1: "safety_stop"}
 
 
 @dataclass
@@ -157,8 +154,8 @@ def verify_file(path: str, options: VerifyOptions | None = None) -> FileVerifica
         out.problem = str(exc)
         return out
     interrupt.check()
-    model = Model(IRProgram(analysis.script, path), functions)
-    out.assumptions = _assumptions(model)
+    model = Model(IRProgram(analysis.script, path), functions, rules)
+    out.assumptions = list(model.assumed)
     runner = Runner(program, functions, rules, setup.profile,
                     os.path.dirname(os.path.abspath(path)))
     for name in options.witnesses:
@@ -173,24 +170,6 @@ def verify_file(path: str, options: VerifyOptions | None = None) -> FileVerifica
                                     progress=options.on_progress)
     if options.counterexamples is not None:
         _write(out, options.counterexamples)
-    return out
-
-
-def _assumptions(model: object) -> list[str]:
-    """What verify assumes of the rules a script's alfa messages bring (docs/verify.md)."""
-    from scriptc.verify.model import Model
-
-    assert isinstance(model, Model)
-    out = []
-    for message in model.program.alfa:
-        if message.action not in ("A", "B", "C"):
-            continue
-        name = _FLOW_NEUTRAL_RULES.get(message.rulecode)
-        if name is None:
-            what = ("an override, which can switch blocks at any time"
-                    if message.rulecode == 2 else "a rule verify does not know")
-            out.append(f"the rule `{message.id}` (rulecode {message.rulecode}) is {what}: "
-                       "verify assumes it changes no block and switches no script")
     return out
 
 
@@ -275,7 +254,7 @@ def overview(path: str, text: str) -> VerifyOverview | None:
         program = checked_program(analysis, path)
     except (ConfiguredError, Refused):
         return None
-    model = Model(IRProgram(analysis.script, path), functions)
+    model = Model(IRProgram(analysis.script, path), functions, rules)
     runner = Runner(program, functions, rules, setup.profile,
                     os.path.dirname(os.path.abspath(path)))
     verification = verify_model(model, runner, max_records=EDITOR_MAX_STATES)

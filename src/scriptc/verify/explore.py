@@ -19,6 +19,13 @@ on the same side of every one of them): the turns are added at once (`TimeSet.re
 whatever the wait's length, and without end when no threshold is ever crossed (a loop the world
 can keep going forever). This is exact: every instant added is one a run reaches by that path.
 
+Override rules (`model.Switch`) make the exploration's states blocks *and* the switches that
+have fired: a switch fires once, at any instant its condition allows while the reader is at an
+instruction block (the chain passes at every instant, and the world can make one at any
+millisecond), and the reader goes on at its target block; a switch whose condition the world
+has no part in must fire as soon as it can, so the block is not finished then. A state is one
+int, `fired * blocks + block`.
+
 What no cycle covers is followed turn by turn (two loops whose lengths differ, turning into each
 other without end), up to the exploration's bound (`max_records`), past which the answer is
 `unknown`.
@@ -31,8 +38,8 @@ import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 
-from scriptc.verify.conditions import ALWAYS
-from scriptc.verify.model import INSTRUCTION, JUMP, SENSOR, TERMINUS, Model
+from scriptc.verify.conditions import ALWAYS, Outcomes
+from scriptc.verify.model import ENDS, INSTRUCTION, JUMP, SENSOR, TERMINUS, Model, Step
 from scriptc.verify.timeset import TimeSet, TooComplex
 
 __all__ = ["ENDED", "Cycle", "Exploration", "Reach", "Record", "Source", "Visit", "cycles",
@@ -50,13 +57,19 @@ MAX_CYCLE_BLOCKS = 64
 @dataclass(frozen=True, slots=True)
 class Move:
     """One move of the reader: from block `node`, `delay` ms later, by `via` (a jump's
-    outcome; None otherwise), to block `to`, possible at the instants `allowed` of `node`."""
+    outcome; None otherwise), to block `to`, possible at the instants `allowed` of `node`.
+    A switch's move (`switch`, its bit) happens from an arrival at `node` that `gate` holds,
+    at any instant from `delay` to `delay + spread` ms after it that `allowed` holds, and goes
+    to `to` (ENDED: the run ends)."""
 
     node: int
     to: int
     via: bool | None
     delay: int
     allowed: TimeSet
+    spread: int = 0
+    switch: int = -1
+    gate: TimeSet = ALWAYS
 
 
 @dataclass(frozen=True, slots=True)
@@ -79,8 +92,9 @@ class Source:
 
 @dataclass(slots=True, eq=False)
 class Record:
-    """Instants newly known at one block (`node`; ENDED for the script's end): `base` those
-    its `sources` brought, `times` those and the turns of the `loops` taken from them (each a
+    """Instants newly known at one state (`node`: a block and the switches fired; ENDED for the
+    script's end; `block` is the block): `base` those its `sources` brought, `times` those
+    and the turns of the `loops` taken from them (each a
     cycle and how many turns, None: without end). `ended` is "terminus" or "past_end" for an
     end record."""
 
@@ -91,15 +105,18 @@ class Record:
     serial: int
     ended: str = ""
     loops: list[tuple[Cycle, int | None]] = field(default_factory=list)
+    block: int = ENDED
 
 
 @dataclass(frozen=True, slots=True)
 class Visit:
-    """One block a run reads (`node`; ENDED at its end), at `t`, entered by `via`."""
+    """One block a run reads (`node`; ENDED at its end), at `t`, entered by `via`, or by the
+    switch of bit `switch` firing at `t`."""
 
     node: int
     t: int
     via: bool | None
+    switch: int = -1
 
 
 @dataclass(frozen=True, slots=True)
@@ -118,15 +135,18 @@ class Reach:
 class Exploration:
     """What the exploration found (see the module's docstring).
 
-    `known[i]` is every instant the reader arrives at block `i`; `records[i]` the records at
-    block `i` in the order made; `ends` the end records; `zero_edges` every move between two
-    blocks that takes no time, with the instants it happens at (the material of a cycle that
-    lets no time pass); `reached[g]` how goal `g` is reached (left forward, or the script ends
-    in it). `complete` is False when a bound stopped it (`bound` says which)."""
+    `known[i]` is every instant the reader arrives at block `i`, whatever has fired;
+    `records[i]` the records at block `i` in the order made; `states` and `by_state` the
+    same for each state; `ends` the end records; `zero_edges` every move between two states
+    that takes no time, with the instants it happens at (the material of a cycle that lets no
+    time pass); `reached[g]` how goal `g` is reached (left forward, or the script ends in
+    it). `complete` is False when a bound stopped it (`bound` says which)."""
 
     model: Model
     known: list[TimeSet]
     records: list[list[Record]]
+    states: dict[int, TimeSet] = field(default_factory=dict)
+    by_state: dict[int, list[Record]] = field(default_factory=dict)
     ends: list[Record] = field(default_factory=list)
     zero_edges: dict[tuple[int, int], TimeSet] = field(default_factory=dict)
     reached: dict[int, list[Reach]] = field(default_factory=dict)
@@ -144,11 +164,11 @@ class Exploration:
         return out
 
 
-def moves(model: Model, i: int) -> list[Move]:
-    """The moves of the reader from block `i` (to `model.end`: past the last block)."""
+def moves(model: Model, i: int, fired: int = 0) -> list[Move]:
+    """The moves of the reader from block `i` (to `model.end`: past the last block) when the
+    switches of the bits `fired` have fired: the block's own, and from an instruction block
+    each switch that may still fire."""
     step = model.steps[i]
-    if step.kind == INSTRUCTION:
-        return [Move(i, step.next, None, step.length, ALWAYS)]
     if step.kind == JUMP:
         outcomes = step.outcomes
         assert outcomes is not None
@@ -156,16 +176,65 @@ def moves(model: Model, i: int) -> list[Move]:
                 Move(i, step.on_false, False, 0, outcomes.false_at)]
     if step.kind == SENSOR:
         return [Move(i, step.next, None, 0, ALWAYS)]
-    assert step.kind == TERMINUS
-    return []
+    if step.kind == TERMINUS:
+        return []
+    assert step.kind == INSTRUCTION
+    out: list[Move] = []
+    finished = ALWAYS
+    for switch in model.switches:
+        if fired >> switch.bit & 1:
+            continue
+        to = ENDED if switch.target == ENDS else switch.target
+        out += _switch_moves(step, switch.when, switch.bit, to)
+        if not switch.when.world:
+            # Nothing of the world holds it back: at an instant of the block where it holds,
+            # the chain fires it, and the block is not finished from that arrival.
+            for o in step.instants:
+                finished = finished & _earlier(switch.when.false_at, o)
+    out.insert(0, Move(i, step.next, None, step.length, finished))
+    return out
 
 
-def cycles(model: Model) -> dict[int, list[Cycle]]:
-    """The cycles of the script that take time, by head (see the module's docstring): a head
-    is a block a later block moves back to; its cycles are the simple paths from it back to
-    it through blocks after it that can lead back to it (at most MAX_CYCLES, each of at most
-    MAX_CYCLE_BLOCKS blocks)."""
-    out_moves = [[m for m in moves(model, i) if m.allowed] for i in range(model.end)]
+def _earlier(times: TimeSet, offset: int) -> TimeSet:
+    """The arrivals `t` with `t + offset` in `times`."""
+    return times.clip(offset, None).shift(-offset) if offset else times
+
+
+def _switch_moves(step: Step, when: Outcomes, bit: int, to: int) -> list[Move]:
+    """The moves of a switch from the instruction block `step` (see `moves`): the world can
+    make an instant of the run at any millisecond, so the switch fires at any instant of the
+    block its condition allows, unless the condition is decided without the world: then it
+    fires no later than the block's own first instant where it holds. One move per stretch
+    between two of the block's instants (the first: the issue itself): from an arrival at
+    which the condition was false at every earlier instant of the block, at any instant of
+    the stretch it holds."""
+    i, length = step.index, step.length
+    if when.world:
+        return [Move(i, to, None, 0, when.true_at, max(length - 1, 0), bit)]
+    out: list[Move] = []
+    gate = ALWAYS
+    bounds = [*step.instants, max(length - 1, 0)]
+    for k, o in enumerate(step.instants):
+        if k == 0:
+            out.append(Move(i, to, None, 0, when.true_at, 0, bit, gate))
+        else:
+            start = step.instants[k - 1] + 1
+            out.append(Move(i, to, None, start, when.true_at, o - start, bit, gate))
+        gate = gate & _earlier(when.false_at, o)
+    last = step.instants[-1]
+    if bounds[-1] > last:  # after the last instant, before the end: only the world's instants
+        out.append(Move(i, to, None, last + 1, when.true_at, bounds[-1] - last - 1, bit, gate))
+    return out
+
+
+def cycles(model: Model, fired: int = 0) -> dict[int, list[Cycle]]:
+    """The cycles of the script that take time, by head, when the switches `fired` have
+    fired (see the module's docstring): a head is a block a later block moves back to; its
+    cycles are the simple paths from it back to it through blocks after it that can lead
+    back to it (at most MAX_CYCLES, each of at most MAX_CYCLE_BLOCKS blocks). A switch's move
+    is on no cycle: a switch fires once."""
+    out_moves = [[m for m in moves(model, i, fired) if m.allowed and m.switch < 0]
+                 for i in range(model.end)]
     into: dict[int, list[int]] = {}
     for i, ms in enumerate(out_moves):
         for m in ms:
@@ -220,19 +289,18 @@ def explore(model: Model, *, max_records: int = MAX_RECORDS,
     end = model.end
     found = Exploration(model, [TimeSet.empty() for _ in model.steps],
                         [[] for _ in model.steps])
-    loops = cycles(model)
-    out_moves = [moves(model, i) for i in range(end)]
+    loops: dict[int, dict[int, list[Cycle]]] = {}  # fired -> head -> cycles
+    out_moves: dict[int, list[Move]] = {}  # state -> moves
     pending: dict[int, tuple[TimeSet, list[Source]]] = {}
     heap: list[tuple[int, int]] = []
     serial = 0
 
-    def arrive(to: int, times: TimeSet, source: Source | None) -> None:
+    def arrive(to: int, times: TimeSet, source: Source | None, ended: str = "") -> None:
         nonlocal serial
-        if to >= end:  # past the last block: the script ends
+        if ended:  # the script ends
             serial += 1
-            record = Record(ENDED, times, times, [source] if source else [], serial,
-                            "past_end")
-            _ended(found, record)
+            _ended(found, Record(ENDED, times, times, [source] if source else [], serial,
+                                 ended))
             return
         had = pending.get(to)
         if had is None:
@@ -247,13 +315,13 @@ def explore(model: Model, *, max_records: int = MAX_RECORDS,
                 heapq.heappush(heap, (times.min(), to))
 
     if end == 0:  # no block: the script ends as it starts
-        arrive(0, TimeSet.point(0), None)
+        arrive(ENDED, TimeSet.point(0), None, "past_end")
     else:
         arrive(0, TimeSet.point(0), None)
     try:
         while heap:
-            _, i = heapq.heappop(heap)
-            entry = pending.pop(i, None)
+            _, node = heapq.heappop(heap)
+            entry = pending.pop(node, None)
             if entry is None:
                 continue  # taken already, at an earlier instant
             if found.count >= max_records:
@@ -268,19 +336,26 @@ def explore(model: Model, *, max_records: int = MAX_RECORDS,
                 if progress is not None:
                     progress(found.count)
             times, sources = entry
-            new = times - found.known[i]
+            fired, i = divmod(node, end)
+            known = found.states.get(node, TimeSet.empty())
+            new = times - known
             if not new:
                 continue
             serial += 1
             found.count += 1
-            record = Record(i, new, new, sources, serial)
-            for cycle in loops.get(i, ()):
+            record = Record(node, new, new, sources, serial, block=i)
+            heads = loops.get(fired)
+            if heads is None:
+                heads = loops[fired] = cycles(model, fired)
+            for cycle in heads.get(i, ()):
                 turns = _turns(cycle, new)
                 if turns is None or turns >= 2:
                     record.loops.append((cycle, turns))
                     record.times = record.times | new.repeat(cycle.period, turns)
                     found.accelerated += 1
+            found.states[node] = known | record.times
             found.known[i] = found.known[i] | record.times
+            found.by_state.setdefault(node, []).append(record)
             found.records[i].append(record)
             step = model.steps[i]
             if step.kind == TERMINUS:
@@ -289,19 +364,41 @@ def explore(model: Model, *, max_records: int = MAX_RECORDS,
                                      [Source(record, Move(i, ENDED, None, 0, ALWAYS))], serial,
                                      "terminus"))
                 continue
-            for move in out_moves[i]:
+            ways = out_moves.get(node)
+            if ways is None:
+                ways = out_moves[node] = moves(model, i, fired)
+            for move in ways:
+                if move.switch >= 0:
+                    gated = record.times if move.gate is ALWAYS else record.times & move.gate
+                    if not gated:
+                        continue
+                    if move.delay:
+                        gated = gated.shift(move.delay)
+                    at = (gated.repeat(1, move.spread) if move.spread else gated) & move.allowed
+                    if not at:
+                        continue
+                    if move.to == ENDED:
+                        arrive(ENDED, at, Source(record, move), "override")
+                    else:
+                        arrive((fired | 1 << move.switch) * end + move.to, at,
+                               Source(record, move))
+                    continue
                 at = record.times if move.allowed is ALWAYS else record.times & move.allowed
                 if not at:
                     continue
-                if move.delay == 0 and move.to < end:
-                    key = (i, move.to)
+                later = at.shift(move.delay) if move.delay else at
+                if move.to >= end:
+                    arrive(ENDED, later, Source(record, move), "past_end")
+                    continue
+                to = fired * end + move.to
+                if move.delay == 0:
+                    key = (node, to)
                     found.zero_edges[key] = found.zero_edges.get(key, TimeSet.empty()) | at
-                if move.to < end and model.steps[move.to].goal > step.goal:
+                if model.steps[move.to].goal > step.goal:
                     # leaving a goal forward reaches it (runtime/goals.py)
                     found.reached.setdefault(step.goal, []).append(
                         Reach(record, at, move.to, move.via, move.delay))
-                arrive(move.to, at.shift(move.delay) if move.delay else at,
-                       Source(record, move))
+                arrive(to, later, Source(record, move))
     except TooComplex as exc:
         found.complete = False
         found.bound = str(exc)
@@ -310,11 +407,15 @@ def explore(model: Model, *, max_records: int = MAX_RECORDS,
 
 
 def _ended(found: Exploration, record: Record) -> None:
-    """An end record: the goal of the block read last is reached."""
+    """An end record: the goal of the block read last is reached when the script ends on
+    its own (a terminus, past the last block), not when a switch to another script ends it
+    (the runtime records the goal as interrupted)."""
     found.ends.append(record)
+    if record.ended == "override":
+        return
     for source in record.sources:
         last = source.parent
-        found.reached.setdefault(found.model.steps[last.node].goal, []).append(
+        found.reached.setdefault(found.model.steps[last.block].goal, []).append(
             Reach(last, record.times.shift(-source.move.delay), ENDED, source.move.via,
                   source.move.delay))
 
@@ -355,32 +456,49 @@ def _interval_around(allowed: TimeSet, lo: int, hi: int | None) -> tuple[int, in
 
 def trail(record: Record, t: int,
           prefer: Callable[[int], bool] | None = None) -> list[Visit]:
-    """A run that arrives at `record`'s block at `t` (one of its instants): every block it
+    """A run that arrives at `record`'s state at `t` (one of its instants): every block it
     reads, in order, from the first at 0 ms. Where several moves lead to the same instant,
     one from a block `prefer` likes is taken when there is one."""
     out: list[Visit] = []
     current: Record | None = record
-    via: bool | None = None
     while current is not None:
-        if current.node == ENDED:
-            source = current.sources[0] if current.sources else None
-            out.append(Visit(ENDED, t, source.move.via if source else None))
-            if source is None:
-                break
-            t -= source.move.delay
-            current = source.parent
-            continue
-        if t not in current.base:
+        if current.node != ENDED and t not in current.base:
             t = _unwind(current, t, out)
         source = _source(current, t, prefer)
-        via = source.move.via if source is not None else None
-        out.append(Visit(current.node, t, via))
+        move = source.move if source is not None else None
+        out.append(Visit(current.block, t, move.via if move is not None else None,
+                         move.switch if move is not None else -1))
         if source is None:
             break
-        t -= source.move.delay
+        assert move is not None
+        t = _before(source, t)
         current = source.parent
     out.reverse()
     return out
+
+
+def _before(source: Source, t: int) -> int:
+    """The instant at the source's record from which its move brings `t`."""
+    move = source.move
+    if move.switch >= 0:  # fired between `delay` and `delay + spread` ms after arriving there
+        before = _fired_from(source, t)
+        assert before is not None
+        return before
+    return t - move.delay
+
+
+def _fired_from(source: Source, t: int) -> int | None:
+    """An arrival at the source's record from which its switch can fire at `t`."""
+    move = source.move
+    if t not in move.allowed:
+        return None
+    times = source.parent.times
+    at = times.last_at_most(t - move.delay)
+    while at is not None and t - move.delay - at <= move.spread:
+        if at in move.gate:
+            return at
+        at = times.last_at_most(at - 1) if at > 0 else None
+    return None
 
 
 def _unwind(record: Record, t: int, out: list[Visit]) -> int:
@@ -399,18 +517,23 @@ def _unwind(record: Record, t: int, out: list[Visit]) -> int:
                         at -= move.delay
                 return t - j * cycle.period
             j += 1
-    raise AssertionError(f"{t} ms is not an instant of the record at block {record.node}")
+    raise AssertionError(f"{t} ms is not an instant of the record at block {record.block}")
 
 
 def _source(record: Record, t: int, prefer: Callable[[int], bool] | None) -> Source | None:
     """A source of `record` that brings the instant `t` (None for the start)."""
     fallback = None
     for source in record.sources:
-        before = t - source.move.delay
-        if before in source.parent.times and before in source.move.allowed:
-            if prefer is None or prefer(source.parent.node):
+        move = source.move
+        if move.switch >= 0:
+            ok = _fired_from(source, t) is not None
+        else:
+            before = t - move.delay
+            ok = before in source.parent.times and before in move.allowed
+        if ok:
+            if prefer is None or prefer(source.parent.block):
                 return source
             fallback = fallback or source
     if fallback is None and record.sources:
-        raise AssertionError(f"no move brings {t} ms to block {record.node}")
+        raise AssertionError(f"no move brings {t} ms to block {record.block}")
     return fallback

@@ -261,7 +261,7 @@ class _Judge:
         visits = trail(record, t)
         until = t + loop.period
         jumps = [m.node for m in loop.moves if m.via is not None]
-        where = self.model.steps[jumps[-1] if jumps else record.node]
+        where = self.model.steps[jumps[-1] if jumps else record.block]
 
         def check(result: RunResult) -> str:
             if result.outcome != "until":
@@ -330,14 +330,15 @@ class _Judge:
                 return self._incomplete("no-progress", "no cycle that lets no time pass was "
                                         "found")
             return Finding("no-progress", PROVED, "time passes on every cycle a run can take")
+        end = self.model.end
         first, t = cycle[0]
-        record = next(r for r in self.found.records[first] if t in r.times)
+        record = next(r for r in self.found.by_state[first] if t in r.times)
         visits = trail(record, t)
         for (a, _), (b, _) in itertools.pairwise(cycle):
-            step = self.model.steps[a]
-            via = (b == step.on_true) if step.kind == JUMP else None
-            visits.append(Visit(b, t, via))
-        step = self.model.steps[first]
+            step = self.model.steps[a % end]
+            via = (b % end == step.on_true) if step.kind == JUMP else None
+            visits.append(Visit(b % end, t, via))
+        step = self.model.steps[first % end]
 
         def check(result: RunResult) -> str:
             codes = {e.get("code") for e in result.errors if e.get("fatal")}
@@ -347,7 +348,7 @@ class _Judge:
 
         witness = self._replay("no-progress", visits, f"the run goes round without time "
                                f"passing at {t} ms", check)
-        names = ", ".join(f"`{_name(self.model.steps[a])}`" for a, _ in cycle[:-1])
+        names = ", ".join(f"`{_name(self.model.steps[a % end])}`" for a, _ in cycle[:-1])
         status = VIOLATED if witness.confirmed else UNKNOWN
         detail = f"at {t} ms a run can go round {names} without time passing"
         if not witness.confirmed:

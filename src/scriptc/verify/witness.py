@@ -75,11 +75,14 @@ class Runner:
 
 @dataclass(frozen=True, slots=True)
 class Ask:
-    """The path needs the jump `step` (a block index) read at `t` to come out `outcome`."""
+    """The path needs the jump `step` (a block index) read at `t` to come out `outcome`; or,
+    with `condition`, an override's condition to hold at `t` (the switch fires then: `tick`
+    asks for an instant of the run there)."""
 
     t: int
     step: int
     outcome: bool
+    condition: ir.Condition | None = None
 
 
 @dataclass
@@ -120,9 +123,14 @@ def jumps_of(events: Sequence[Event]) -> list[tuple[int, str, bool]]:
 
 
 def asks_of(model: Model, visits: Sequence[Visit]) -> list[Ask]:
-    """The jumps of a path that the world decides, with the outcome the path takes."""
+    """The jumps of a path that the world decides, with the outcome the path takes, and the
+    switches that fire on it (their condition must hold then)."""
     out = []
     for before, after in itertools.pairwise(visits):
+        if after.switch >= 0:
+            switch = model.switches[after.switch]
+            out.append(Ask(after.t, -1, True, switch.condition))
+            continue
         if before.node == ENDED:
             continue
         step = model.steps[before.node]
@@ -197,7 +205,17 @@ def _make(model: Model, instants: list[tuple[int, list[Ask]]], tried: dict[int, 
             return None
         maker.commit(choice)
         out.extend(choice)
+        if any(ask.condition is not None for ask in asks):
+            out.append(_tick(t, len(choice)))
     return out
+
+
+def _tick(t: int, index: int) -> TimedUpdate:
+    """An update that changes nothing a condition reads (the robot's battery), so that the
+    run has an instant at `t`: the chain of rules passes at every instant, and a switch's
+    condition is read then."""
+    return TimedUpdate(t, parse_update("RobotStatus/verify", "batterytimeleft", "R",
+                                       3_600_000), index)
 
 
 def _predicted(model: Model, visits: Sequence[Visit]) -> dict[str, str]:
@@ -363,17 +381,20 @@ class _Maker:
             yield world
 
     def _needs(self, ask: Ask, known: dict[str, str]) -> _Need:
-        block = self.model.program.blocks[ask.step][1]
-        assert isinstance(block, ir.JumpBlock)
+        condition = ask.condition
+        if condition is None:
+            block = self.model.program.blocks[ask.step][1]
+            assert isinstance(block, ir.JumpBlock)
+            condition = block.condition
         parts: list[_WorldPart] = []
         aliases: dict[str, str] = {}
-        for a in block.condition.assignments:
+        for a in condition.assignments:
             if isinstance(a, ir.ClassAssignment):
                 aliases[a.alias.name.text] = a.class_name.text
                 if a.class_name.text in ENTITY_CLASSES:
                     parts.append(_WorldPart(a.class_name.text, a.alias.name.text,
                                             tuple(_tests(a.tests))))
-        for e in block.condition.evaluations:
+        for e in condition.evaluations:
             if isinstance(e, ir.TrueEvaluation):
                 break
             test = _evaluation_test(e, aliases, known)
