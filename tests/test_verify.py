@@ -30,8 +30,8 @@ from scriptc.runtime.trace import Trace
 from scriptc.runtime.world import parse_update
 from scriptc.verify.explore import explore
 from scriptc.verify.model import Model
-from scriptc.verify.verdicts import PROVED, UNKNOWN, VIOLATED, verify_model
 from scriptc.verify.timeset import TimeSet
+from scriptc.verify.verdicts import PROVED, UNKNOWN, VIOLATED, verify_model
 from scriptc.verify.witness import Runner
 
 ROOT = Path(__file__).resolve().parent.parent
