@@ -617,43 +617,17 @@ def _name(step: Step) -> str:
 
 def _on_cycles(succ: dict[int, list[int]]) -> set[int]:
     """The nodes of `succ` (a graph) that lie on a cycle: those of its strongly connected
-    components with more than one node or a move to themselves (Kosaraju's, iterative)."""
-    order: list[int] = []
-    seen: set[int] = set()
-    for root in succ:
-        if root in seen:
-            continue
-        seen.add(root)
-        stack = [(root, iter(succ.get(root, ())))]
-        while stack:
-            node, it = stack[-1]
-            nxt = next((b for b in it if b not in seen), None)
-            if nxt is None:
-                stack.pop()
-                order.append(node)
-            else:
-                seen.add(nxt)
-                stack.append((nxt, iter(succ.get(nxt, ()))))
-    pred: dict[int, list[int]] = {}
-    for a, bs in succ.items():
-        for b in bs:
-            pred.setdefault(b, []).append(a)
+    components with more than one node or a move to themselves (lint's Tarjan, F002's)."""
+    from scriptc.check.flow import strongly_connected
+
+    nodes = sorted(set(succ) | {b for bs in succ.values() for b in bs})
+    index = {v: k for k, v in enumerate(nodes)}
+    dense = [tuple(index[b] for b in succ.get(v, ())) for v in nodes]
     out: set[int] = set()
-    assigned: set[int] = set()
-    for root in reversed(order):
-        if root in assigned:
-            continue
-        component = [root]
-        assigned.add(root)
-        todo = [root]
-        while todo:
-            for a in pred.get(todo.pop(), ()):
-                if a not in assigned:
-                    assigned.add(a)
-                    component.append(a)
-                    todo.append(a)
-        if len(component) > 1 or root in succ.get(root, ()):
-            out.update(component)
+    for component in strongly_connected(list(range(len(nodes))), dense,
+                                        [True] * len(nodes)):
+        if len(component) > 1 or component[0] in dense[component[0]]:
+            out.update(nodes[k] for k in component)
     return out
 
 
