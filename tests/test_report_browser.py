@@ -161,3 +161,33 @@ def test_a_ten_minute_session_renders(browser, tmp_path):
     print(f"\n10-minute session, {page.stat().st_size / 1e6:.2f} MB: ready "
           f"{browser.evaluate('scriptcReport.readyAt'):.0f} ms after the page began to load; "
           f"{browser.evaluate('JSON.stringify(scriptcReport.timings)')}")
+
+
+ODD = {
+    "a trace of one event": [{"t": 0, "event": "session_start"}],
+    "the idle activity and a fatal error": [
+        {"t": 0, "event": "session_start", "scripts": [], "robot": "kinematic"},
+        {"t": 0, "event": "script_load", "script": "idle_activity", "path": "",
+         "reason": "idle"},
+        {"t": 0, "event": "block", "script": "idle_activity", "path": "goal0/act0/blk0",
+         "label": "breathe", "changed": False},
+        {"t": 5, "event": "error", "code": "read", "message": "<b>é 🤖</b>", "fatal": True},
+        {"t": 5, "event": "session_end", "outcome": "error", "time_ms": 5,
+         "pose": {"x": 0, "y": 0, "theta": 0}}],
+}
+
+
+@pytest.mark.parametrize("name", list(ODD))
+def test_odd_traces_render_too(browser, tmp_path, name):
+    from scriptc.ops.report import find_sources
+
+    events = ODD[name]
+    page = tmp_path / "odd.html"
+    page.write_text(report_html(events, find_sources(events)[0]), encoding="utf-8")
+    open_page(browser, page)
+    browser.mouse_move(*chart_point(browser, 1, 0.004))
+    assert browser.problems == []
+    if "error" in name:
+        assert browser.evaluate("scriptcReport.highlighted") == "goal0/act0/blk0"
+        summary = browser.evaluate("document.querySelector('table.summary').textContent")
+        assert "<b>é 🤖</b>" in summary  # shown as text, not markup
