@@ -214,20 +214,24 @@ def _footprint() -> float:
 
 
 def page_model(events: Sequence[Event], sources: Sequence[ScriptSource] = (),
-               samples: Sequence[Sample] | None = None) -> tuple[dict[str, object], bytes]:
+               samples: Sequence[Sample] | None = None,
+               summary: run_data.Summary | None = None) -> tuple[dict[str, object], bytes]:
     """The model the page draws (JSON data) and the float32 buffer its arrays point into.
     `samples` is the robot's recorded path (`PathRecorder.samples`); without it the path is
     reconstructed from the trace (`run_data.reconstruct_path`)."""
     buffer, texts = _Buffer(), _Texts()
     recorded = samples is not None
-    path = list(samples) if samples is not None else run_data.reconstruct_path(events)
+    end = run_data.end_ms(events)
+    if summary is None:
+        summary = run_data.summarize_run(events)
+    path = list(samples) if samples is not None else run_data.reconstruct_path(events, end=end)
     gap = run_data.path_gap(path, events)
     thin = run_data.thin_path(path)
     entities = []
     for objectid, points in run_data.entity_paths(events, path).items():
         entities.append({"id": objectid, "cls": objectid.partition("/")[0],
                          **buffer.columns(points, "t x y")})
-    segments = run_data.track_segments(events)
+    segments = run_data.track_segments(events, end)
     move = [(s.start, s.end, *s.values) for s in segments["move"]]
     led = [(s.start, s.end, *s.values, s.lit) for s in segments["led"]]
     audio = [(s.start, s.end, texts(s.name)) for s in segments["audioout"]]
@@ -241,10 +245,10 @@ def page_model(events: Sequence[Event], sources: Sequence[ScriptSource] = (),
     index = [{b.path: i for i, b in enumerate(flow.blocks)} for flow in flows]
     visit_rows = [(v.t, v.load, index[load_flow[v.load]].get(v.path, -1), v.kind)
                   for v in visited]
-    pose = run_data.summarize_run(events).pose
+    pose = summary.pose
     model: dict[str, object] = {
         "version": MODEL_VERSION,
-        "end": run_data.end_ms(events),
+        "end": end,
         "robot": {"radius": _footprint(), "recorded": recorded,
                   "gap": None if gap is None else round(gap, 4),
                   "end": None if pose is None else list(pose)},
@@ -339,11 +343,10 @@ def _inline(text: str, tag: str) -> str:
     return text
 
 
-def _summary_html(events: Sequence[Event], sources: Sequence[ScriptSource],
+def _summary_html(s: run_data.Summary, sources: Sequence[ScriptSource],
                   model: dict[str, object]) -> str:
     """The summary at the top of the page, as HTML (every text escaped)."""
     e = html.escape
-    s = run_data.summarize_run(events)
     rows: list[tuple[str, str]] = []
     outcome = (f"<b class=\"outcome {e(s.outcome)}\">{e(s.outcome)}</b> at {s.time_ms:,} ms "
                f"({s.time_ms / 1000:.3f} s simulated)")
@@ -402,15 +405,15 @@ def report_html(events: Sequence[Event], sources: Sequence[ScriptSource] = (), *
     """The page of the run whose trace is `events`: `sources` are the scripts it loaded (for
     their flows), `samples` the robot's recorded path (else reconstructed), `title` the
     page's (default: the scripts and how the run ended)."""
-    model, data = page_model(events, sources, samples)
     summary = run_data.summarize_run(events)
+    model, data = page_model(events, sources, samples, summary)
     if title is None:
         title = (f"{', '.join(summary.scripts) or 'a run'}: {summary.outcome} at "
                  f"{summary.time_ms / 1000:.3f} s")
     parts = {
         "TITLE": html.escape(title),
         "STYLE": _inline(_asset("uPlot.min.css") + "\n" + _asset("report.css"), "style"),
-        "SUMMARY": _summary_html(events, sources, model),
+        "SUMMARY": _summary_html(summary, sources, model),
         "DATA": _payload(model, data),
         "UPLOT": _inline(_asset("uPlot.iife.min.js"), "script"),
         "SCRIPT": _inline(_asset("report.js"), "script"),

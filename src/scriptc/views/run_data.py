@@ -287,14 +287,16 @@ class _Wheels:
             self.robot.set_velocity(at, *target)
 
 
-def reconstruct_path(events: Sequence[Event], every_ms: int = EVERY_MS) -> list[Sample]:
+def reconstruct_path(events: Sequence[Event], every_ms: int = EVERY_MS,
+                     end: int | None = None) -> list[Sample]:
     """The robot's path from the trace's velocity changes (the module's docstring): a sample
-    every `every_ms` from 0 to `end_ms` (less often past `MAX_SAMPLES`), and at the end."""
+    every `every_ms` from 0 to `end` (`end_ms`; less often past `MAX_SAMPLES`), and at the
+    end."""
     # Ramps that turn while they move by quadrature (within a micrometre: `Kinematics`).
     robot = Kinematics(exact=False)
     wheels = _Wheels(robot, profile_of(events))
     changes = _changes(events, profile_of(events))
-    end = end_ms(events)
+    end = end_ms(events) if end is None else end
     every = max(every_ms, math.ceil(end / MAX_SAMPLES / every_ms) * every_ms)
     samples: list[Sample] = [(0, 0.0, 0.0, 0.0)]
     i = 0
@@ -438,10 +440,11 @@ def _held_dark(events: Sequence[Event]) -> list[tuple[int, int | None]]:
     return out
 
 
-def track_segments(events: Sequence[Event]) -> dict[str, list[Segment]]:
+def track_segments(events: Sequence[Event], end: int | None = None) -> dict[str, list[Segment]]:
     """Each track's commands as segments, in time order; the LEDs as they were lit: an onset
-    the governor held dark is dark (`lit` 2) until it let the LEDs show."""
-    end = end_ms(events)
+    the governor held dark is dark (`lit` 2) until it let the LEDs show; a command still
+    running at the end runs to `end` (`end_ms`)."""
+    end = end_ms(events) if end is None else end
     out: dict[str, list[Segment]] = {track: [] for track in TRACKS}
     for track, start, stop, command in _commands(events, end):
         if track == "move":
