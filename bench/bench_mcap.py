@@ -36,7 +36,7 @@ def main() -> None:
     from scriptc.analysis.analyze import analyze_file
     from scriptc.robot.profile import DEFAULT_PROFILE
     from scriptc.runtime.interp import IRProgram
-    from scriptc.runtime.plot import PathRecorder
+    from scriptc.runtime.recorded import PathRecorder
     from scriptc.runtime.robots.mujoco import MujocoRobot
     from scriptc.runtime.scenario import load_scenario
     from scriptc.runtime.session import Session

@@ -50,7 +50,7 @@ def measure(name: str, text: str, robot: object, scenario: object = None) -> Non
     from scriptc.ops.report import find_sources, read_trace
     from scriptc.robot.profile import DEFAULT_PROFILE
     from scriptc.runtime.interp import IRProgram
-    from scriptc.runtime.plot import PathRecorder
+    from scriptc.runtime.recorded import PathRecorder
     from scriptc.runtime.session import Session
     from scriptc.runtime.trace import Trace
     from scriptc.views.report import ScriptSource, report_html

@@ -65,7 +65,7 @@ EXAMPLES = Path(__file__).parent.parent / "examples"
 
 
 def test_map_positions_are_turned_into_the_world_frame() -> None:
-    from scriptc.runtime.plot import map_positions
+    from scriptc.runtime.recorded import map_positions
 
     # The robot drives from the origin to (1, 0), then turns to face +y.
     samples = [(0, 0.0, 0.0, 0.0), (500, 0.5, 0.0, 0.0), (1000, 1.0, 0.0, math.pi / 2)]
@@ -99,7 +99,7 @@ def test_map_positions_are_turned_into_the_world_frame() -> None:
 
 
 def test_the_pose_between_samples_is_interpolated() -> None:
-    from scriptc.runtime.plot import pose_at
+    from scriptc.runtime.recorded import pose_at
 
     samples = [(0, 0.0, 0.0, 0.0), (20, 0.2, -0.1, 0.4)]
     assert pose_at(samples, 10) == pytest.approx((0.1, -0.05, 0.2))
@@ -111,7 +111,7 @@ def test_the_pose_between_samples_is_interpolated() -> None:
 def test_the_footprint_is_the_models_base() -> None:
     import mujoco
 
-    from scriptc.runtime.plot import footprint_radius
+    from scriptc.runtime.recorded import footprint_radius
     from scriptc.runtime.robots.mujoco import load_model
 
     model = load_model()

@@ -20,7 +20,7 @@ from scriptc.analysis.analyze import analyze_file
 from scriptc.cli.main import cli
 from scriptc.robot.profile import DEFAULT_PROFILE
 from scriptc.runtime.interp import IRProgram
-from scriptc.runtime.plot import PathRecorder
+from scriptc.runtime.recorded import PathRecorder
 from scriptc.runtime.robots import make_robot
 from scriptc.runtime.scenario import load_scenario
 from scriptc.runtime.session import Session

@@ -23,7 +23,7 @@ from scriptc.cli.main import cli
 from scriptc.ops import programs
 from scriptc.ops.report import TraceError, default_output, find_sources, read_trace
 from scriptc.robot.profile import DEFAULT_PROFILE
-from scriptc.runtime.plot import PathRecorder, map_positions
+from scriptc.runtime.recorded import PathRecorder, map_positions
 from scriptc.runtime.robots import make_robot
 from scriptc.runtime.scenario import load_scenario
 from scriptc.runtime.session import Session
@@ -142,9 +142,12 @@ def test_thinning_keeps_the_ends_of_a_still_stretch() -> None:
 
 
 def test_people_are_where_plot_puts_them() -> None:
+    """The page's people are where `--plot` and the MCAP file put them: the one reading of the
+    map's `poses` updates (`runtime.recorded.map_positions`)."""
     events, samples, _ = example("turn_taking")
-    paths = run_data.entity_paths(events, samples)
-    assert paths and paths == map_positions(events, samples)[0]
+    model, _buffer = page_model(events, samples=samples)
+    placed = map_positions(events, samples)[0]
+    assert placed and [e["id"] for e in model["entities"]] == list(placed)
 
 
 def test_the_leds_are_painted_as_they_were_lit() -> None:

@@ -175,7 +175,7 @@ def command(ctx: click.Context, files: tuple[str, ...], world: str | None, until
     # The MCAP file and the report show the robot where it was: its path is recorded as for
     # the picture.
     if plot_path is not None or as_mcap or report_path is not None:
-        from scriptc.runtime.plot import PathRecorder
+        from scriptc.runtime.recorded import PathRecorder
 
         robot_backend = recorder = PathRecorder(robot_backend)
     session = Session(loaded.runnable(), scenario=scenario, robot=robot_backend, trace=trace,

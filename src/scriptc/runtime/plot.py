@@ -12,21 +12,25 @@ made of `updates` shows its people where the robot would have seen them). The MC
 run (`--trace FILE.mcap`, views/mcap.py) places the robot and the people with the same
 functions.
 
-`PathRecorder` wraps a robot backend and samples its pose every `every_ms` of simulated time
-(the physics is stepped in those chunks: the same steps, so the same result; only `--plot`
-and `--trace FILE.mcap` use it). `draw_run` makes the figure from the recorded path, the
-trace's events and the scenario; `plot_run` writes it. matplotlib (the `plot` extra) is
+The robot's path is recorded by `runtime/recorded.py`'s `PathRecorder` (only `--plot`,
+`--report` and `--trace FILE.mcap` use it), and the people placed and the commands timed by
+its functions, which every view of a run shares. `draw_run` makes the figure from the recorded
+path, the trace's events and the scenario; `plot_run` writes it. matplotlib (the `plot` extra) is
 imported only inside them, with the non-interactive Agg backend.
 """
 
 from __future__ import annotations
 
-import bisect
 import math
-from collections.abc import Iterable, Sequence
+from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
-from scriptc.runtime.robots import Pose, Ramp, Robot
+from scriptc.runtime.recorded import (
+    Sample,
+    command_intervals,
+    footprint_radius,
+    map_positions,
+)
 from scriptc.runtime.trace import Event
 
 if TYPE_CHECKING:
@@ -34,142 +38,15 @@ if TYPE_CHECKING:
 
     from scriptc.runtime.scenario import Scenario
 
-# A recorded pose: (t_ms, x, y, theta).
-Sample = tuple[int, float, float, float]
-
-
-class PathRecorder:
-    """A `Robot` wrapper that records `(t_ms, x, y, theta)` samples."""
-
-    def __init__(self, robot: Robot, every_ms: int = 20) -> None:
-        self.robot = robot
-        self.name = getattr(robot, "name", type(robot).__name__)
-        self.every = every_ms
-        self.t = 0
-        p = robot.pose()
-        self.samples: list[Sample] = [(0, p.x, p.y, p.theta)]
-
-    def __getattr__(self, name: str) -> object:
-        """The backend's own attributes (`set_led`, `time_ms`, ...), as the backend has them."""
-        return getattr(self.robot, name)
-
-    def advance(self, t_ms: int) -> None:
-        while self.t < t_ms:
-            step = min(t_ms, (self.t // self.every + 1) * self.every)
-            self.robot.advance(step)
-            self.t = step
-            p = self.robot.pose()
-            self.samples.append((step, p.x, p.y, p.theta))
-
-    def set_velocity(self, t_ms: int, v_x: float, v_y: float, v_theta: float,
-                     ramp: Ramp | None = None) -> None:
-        self.advance(t_ms)
-        self.robot.set_velocity(t_ms, v_x, v_y, v_theta, ramp=ramp)
-
-    def pose(self) -> Pose:
-        return self.robot.pose()
-
-    def ghost(self) -> Robot:
-        """The backend's ghost (`Robot.ghost`): where the robot will be is not its path."""
-        return self.robot.ghost()
-
-
 _TRACKS = ("move", "led", "audioout")
 # What each lane of the timeline shows: the track's name in the trace, and what it drives.
 _LANE_LABELS = {"move": "move\n(wheels)", "led": "led\n(LEDs)", "audioout": "audioout\n(speaker)"}
 _CLASS_STYLE = {"Human": ("o", "#d62728"), "Object": ("s", "#2ca02c"),
                 "Obstacle": ("X", "#555555")}
 _OTHER_STYLE = ("D", "#9467bd")
-# The map's classes that have a position (`poses` updates: positionrho, positiontheta).
-_POSITIONED = ("Human", "Object", "Obstacle")
 _ROBOT = "#1f77b4"
 # An entity's path shows the time of each point up to this many points, else of the ends.
 _TIMES_SHOWN = 8
-
-
-def footprint_radius() -> float:
-    """The radius of the robot's base in the MuJoCo model (`teo.xml`, geom `base`): what the
-    picture draws as the robot's footprint."""
-    from importlib import resources
-    from xml.etree import ElementTree
-
-    model = resources.files("scriptc.runtime.robots").joinpath("teo.xml").read_text("utf-8")
-    base = ElementTree.fromstring(model).find(".//geom[@name='base']")
-    size = None if base is None else base.get("size")
-    assert size is not None, "the shipped model's geom `base` has a size"
-    return float(size.split()[0])
-
-
-def pose_at(samples: Sequence[Sample], t_ms: int, times: Sequence[int] | None = None
-            ) -> tuple[float, float, float]:
-    """The robot's (x, y, theta) at `t_ms`, interpolated between the recorded samples (the
-    origin facing +x before any). `times`: the samples' times, when the caller asks for many
-    poses (made once, not at each call)."""
-    if not samples:
-        return 0.0, 0.0, 0.0
-    if times is None:
-        times = [s[0] for s in samples]
-    i = bisect.bisect_right(times, t_ms)
-    if i == 0:
-        return samples[0][1:]
-    if i == len(samples) or samples[i - 1][0] == t_ms:
-        return samples[i - 1][1:]
-    (t0, x0, y0, theta0), (t1, x1, y1, theta1) = samples[i - 1], samples[i]
-    f = (t_ms - t0) / (t1 - t0)
-    return x0 + f * (x1 - x0), y0 + f * (y1 - y0), theta0 + f * (theta1 - theta0)
-
-
-def map_positions(events: Iterable[Event], samples: Sequence[Sample]
-                  ) -> tuple[dict[str, list[tuple[int, float, float]]], list[str]]:
-    """Where the map put each person, object and obstacle, in the world frame: for every
-    applied `poses` update, the entity's `positionrho` and `positiontheta` (relative to the
-    robot, as a sensor sends them; a message may carry one of the two, the other keeping its
-    value) turned into world coordinates with the robot's pose at that millisecond. Returns
-    `{objectid: [(t, x, y), ...]}` in time order, and the ids the map knew without a position
-    (only `tracking` updates, say)."""
-    polar: dict[str, dict[str, float]] = {}
-    paths: dict[str, list[tuple[int, float, float]]] = {}
-    known: list[str] = []
-    times = [s[0] for s in samples]
-    for e in events:
-        if e.get("event") != "update" or e.get("status") != "applied":
-            continue
-        objectid = e.get("objectid", "")
-        if objectid.partition("/")[0] not in _POSITIONED:
-            continue
-        if objectid not in known:
-            known.append(objectid)
-        value = e.get("value")
-        if e.get("attributename") != "poses" or not isinstance(value, dict):
-            continue
-        state = polar.setdefault(objectid, {})
-        for key in ("positionrho", "positiontheta"):
-            if isinstance(value.get(key), (int, float)):
-                state[key] = float(value[key])
-        if len(state) == 2:
-            x, y, theta = pose_at(samples, e["t"], times)
-            bearing = theta + state["positiontheta"]
-            paths.setdefault(objectid, []).append(
-                (e["t"], x + state["positionrho"] * math.cos(bearing),
-                 y + state["positionrho"] * math.sin(bearing)))
-    return paths, [objectid for objectid in known if objectid not in paths]
-
-
-def _intervals(events: Iterable[Event]) -> list[tuple[str, int, int, Event]]:
-    """(track, start, end, command) of every command that ran, from cmd_start/cmd_stop."""
-    running: dict[str, tuple[int, Event]] = {}
-    out: list[tuple[str, int, int, Event]] = []
-    end_t = 0
-    for e in events:
-        end_t = max(end_t, e["t"])
-        if e["event"] == "cmd_start":
-            running[e["track"]] = (e["t"], e["command"])
-        elif e["event"] == "cmd_stop" and e["track"] in running:
-            start, command = running.pop(e["track"])
-            out.append((e["track"], start, e["t"], command))
-    for track, (start, command) in running.items():
-        out.append((track, start, end_t, command))
-    return out
 
 
 def draw_run(events: list[Event], samples: Sequence[Sample] | None = None,
@@ -259,7 +136,7 @@ def draw_run(events: list[Event], samples: Sequence[Sample] | None = None,
                                   f"robot {events[0].get('robot', '?')})" if title else ""))
     # -- the timeline ------------------------------------------------------------------------
     lane = {name: i for i, name in enumerate(reversed(_TRACKS))}
-    for track, start, stop, command in _intervals(events):
+    for track, start, stop, command in command_intervals(events):
         y = lane[track]
         width = max(stop - start, 1) / 1000.0
         colour: tuple[float, float, float] | str

@@ -25,8 +25,8 @@ Times are simulated: a message of the instant `t` ms has `log_time = publish_tim
 ns, and the `timestamp` in it says the same. `/robot/led` and `/robot/velocity` hold a value
 until the next, so a change at `t` is two messages at `t` (the old value, then the new one):
 a plot draws a step, not a slope. The robot's pose is its recorded path (`samples`, recorded by
-`runtime.plot.PathRecorder` as for `--plot`); people and objects are where the map's `poses`
-updates put them (`runtime.plot.map_positions`, as in the picture of `--plot`).
+`runtime.recorded.PathRecorder` as for `--plot`); people and objects are where the map's `poses`
+updates put them (`runtime.recorded.map_positions`, as in the picture of `--plot`).
 
 The file is the same bytes for the same events: nothing comes from the clock (the writer's
 header names `scriptc`, not the library's version), the channels and schemas are registered in
@@ -44,7 +44,7 @@ from collections.abc import Sequence
 from typing import Any, ClassVar
 
 from scriptc.numbers import JSONObject, json_dumps
-from scriptc.runtime.plot import Sample, footprint_radius, map_positions
+from scriptc.runtime.recorded import Sample, footprint_radius, map_positions
 from scriptc.runtime.trace import Event
 
 # -- Foxglove's schemas (the fields of foxglove-sdk's JSON Schemas) -----------------------------
@@ -549,7 +549,7 @@ def messages(events: Sequence[Event], samples: Sequence[Sample]
 
 def write_mcap(events: Sequence[Event], samples: Sequence[Sample]) -> bytes:
     """The MCAP file of a run, as bytes: its trace's `events` and the robot's path (`samples`,
-    `(t, x, y, theta)` as `runtime.plot.PathRecorder` records them)."""
+    `(t, x, y, theta)` as `runtime.recorded.PathRecorder` records them)."""
     from mcap.writer import CompressionType, Writer
 
     channels, timed = messages(events, samples)

@@ -40,6 +40,7 @@ from scriptc.ir import nodes as ir
 from scriptc.numbers import json_dumps
 from scriptc.runtime.commands import BlockAddress
 from scriptc.runtime.interp import IRProgram, JumpTargetError
+from scriptc.runtime.recorded import map_positions
 from scriptc.runtime.trace import Event
 from scriptc.views import run_data
 from scriptc.views.run_data import Sample
@@ -208,7 +209,7 @@ class _Texts:
 
 @cache
 def _footprint() -> float:
-    from scriptc.runtime.plot import footprint_radius
+    from scriptc.runtime.recorded import footprint_radius
 
     return footprint_radius()
 
@@ -228,7 +229,7 @@ def page_model(events: Sequence[Event], sources: Sequence[ScriptSource] = (),
     gap = run_data.path_gap(path, events)
     thin = run_data.thin_path(path)
     entities = []
-    for objectid, points in run_data.entity_paths(events, path).items():
+    for objectid, points in map_positions(events, path)[0].items():
         entities.append({"id": objectid, "cls": objectid.partition("/")[0],
                          **buffer.columns(points, "t x y")})
     segments = run_data.track_segments(events, end)

@@ -27,7 +27,6 @@ says how far the reconstruction ends from the pose the run ended at, and the pag
 
 from __future__ import annotations
 
-import bisect
 import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field, replace
@@ -44,6 +43,8 @@ from scriptc.robot.motion import (
     rates_of,
 )
 from scriptc.robot.profile import Profile
+from scriptc.runtime.commands import TRACKS
+from scriptc.runtime.recorded import Sample, command_intervals
 from scriptc.runtime.trace import Event
 
 __all__ = [
@@ -55,7 +56,6 @@ __all__ = [
     "Summary",
     "Visit",
     "end_ms",
-    "entity_paths",
     "markers",
     "path_gap",
     "profile_of",
@@ -67,17 +67,11 @@ __all__ = [
     "visits",
 ]
 
-# A pose of the robot at a millisecond: (t_ms, x, y, theta), as `runtime/plot.py` records it.
-Sample = tuple[int, float, float, float]
-
-TRACKS = ("move", "led", "audioout")
 # The lanes of the events' timeline, top to bottom.
 LANES = ("script", "jumps", "rules", "operator", "governor", "errors")
 # A marker's style (the page gives each its colour): plain, a condition that held, one that did
 # not, a goal reached, a warning (the governor), an error.
 PLAIN, HELD, NOT_HELD, REACHED, WARNING, ERROR = range(6)
-# The map's classes that have a position (`poses` updates), as `runtime/plot.py` draws them.
-POSITIONED = ("Human", "Object", "Obstacle")
 # The path is sampled this often; a longer run is sampled less often, to at most MAX_SAMPLES.
 EVERY_MS = 20
 MAX_SAMPLES = 40_000
@@ -335,61 +329,6 @@ def thin_path(samples: Sequence[Sample], most: int = MAX_SAMPLES) -> list[Sample
     return kept
 
 
-class _Poses:
-    """The robot's pose at any millisecond, interpolated between samples (as
-    `runtime.plot.pose_at`, with the times listed once)."""
-
-    def __init__(self, samples: Sequence[Sample]) -> None:
-        self.samples = samples
-        self.times = [s[0] for s in samples]
-
-    def at(self, t: int) -> tuple[float, float, float]:
-        samples = self.samples
-        if not samples:
-            return 0.0, 0.0, 0.0
-        i = bisect.bisect_right(self.times, t)
-        if i == 0:
-            return samples[0][1:]
-        if i == len(samples) or samples[i - 1][0] == t:
-            return samples[i - 1][1:]
-        (t0, x0, y0, h0), (t1, x1, y1, h1) = samples[i - 1], samples[i]
-        f = (t - t0) / (t1 - t0)
-        return x0 + f * (x1 - x0), y0 + f * (y1 - y0), h0 + f * (h1 - h0)
-
-
-def entity_paths(events: Iterable[Event], samples: Sequence[Sample]
-                 ) -> dict[str, list[tuple[int, float, float]]]:
-    """Where the map put each person, object and obstacle, in the world frame: each applied
-    `poses` update (relative to the robot, as a sensor sends it; a message may carry only one of
-    `positionrho` and `positiontheta`) turned into world coordinates with the robot's pose at
-    that millisecond, as `runtime.plot.map_positions` does. `{objectid: [(t, x, y), ...]}`, in
-    the order the ids first appear."""
-    poses = _Poses(samples)
-    polar: dict[str, dict[str, float]] = {}
-    paths: dict[str, list[tuple[int, float, float]]] = {}
-    for e in events:
-        if e.get("event") != "update" or e.get("status") != "applied":
-            continue
-        objectid = _text(e.get("objectid"))
-        value = e.get("value")
-        if objectid.partition("/")[0] not in POSITIONED or e.get("attributename") != "poses" \
-                or not isinstance(value, dict):
-            continue
-        state = polar.setdefault(objectid, {})
-        for key in ("positionrho", "positiontheta"):
-            number = _number(value.get(key))
-            if number is not None:
-                state[key] = number
-        if len(state) == 2:
-            t = _t(e)
-            x, y, theta = poses.at(t)
-            bearing = theta + state["positiontheta"]
-            paths.setdefault(objectid, []).append(
-                (t, x + state["positionrho"] * math.cos(bearing),
-                 y + state["positionrho"] * math.sin(bearing)))
-    return paths
-
-
 # -- the tracks ---------------------------------------------------------------------------------
 
 
@@ -404,30 +343,6 @@ class Segment:
     values: tuple[float, float, float] = (0.0, 0.0, 0.0)
     lit: int = 0
     name: str = ""
-
-
-def _commands(events: Sequence[Event], end: int) -> list[tuple[str, int, int, Event]]:
-    """(track, start, end, command) of every command that ran, from cmd_start/cmd_stop (one
-    still running at the end runs to `end`)."""
-    running: dict[str, tuple[int, Event]] = {}
-    out: list[tuple[str, int, int, Event]] = []
-    for e in events:
-        track = e.get("track")
-        if not isinstance(track, str) or track not in TRACKS:
-            continue
-        if e.get("event") == "cmd_start":
-            command = e.get("command")
-            if track in running:  # a start without its stop: it ends here
-                start, previous = running.pop(track)
-                out.append((track, start, _t(e), previous))
-            running[track] = (_t(e), command if isinstance(command, dict) else {})
-        elif e.get("event") == "cmd_stop" and track in running:
-            start, command = running.pop(track)
-            out.append((track, start, _t(e), command))
-    out += [(track, start, max(start, end), command)
-            for track, (start, command) in running.items()]
-    out.sort(key=lambda c: (TRACKS.index(c[0]), c[1], c[2]))
-    return out
 
 
 def _held_dark(events: Sequence[Event]) -> list[tuple[int, int | None]]:
@@ -446,7 +361,7 @@ def track_segments(events: Sequence[Event], end: int | None = None) -> dict[str,
     running at the end runs to `end` (`end_ms`)."""
     end = end_ms(events) if end is None else end
     out: dict[str, list[Segment]] = {track: [] for track in TRACKS}
-    for track, start, stop, command in _commands(events, end):
+    for track, start, stop, command in command_intervals(events, end):
         if track == "move":
             v = _velocity(command) or (0.0, 0.0, 0.0)
             out[track].append(Segment(start, stop, v))
