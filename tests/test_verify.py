@@ -199,16 +199,55 @@ def test_a_bound_makes_what_it_stops_unknown_never_proved() -> None:
 
 
 def test_an_unconfirmed_run_is_unknown_not_violated() -> None:
-    # A variable is "calm" and compared with "busy": verify leaves it to the world, finds a
-    # run through `busy` that no world makes, and says so.
-    text = ("[mode]\n[goal:g]\n  [action]\n"
-            '    [b##blk_jump: CND({VAR @mode U F: str("calm")} ! {TRUE}) TRJMP() FLSJMP()]\n'
-            '    [b##blk_jump: CND(! {E: eq(@mode, "busy")}) TRJMP(busy) FLSJMP(calm)]\n'
+    # Near is within 1 m, very near within 0.5 m: not near and very near at one instant is
+    # a run verify finds (each condition the world's on its own) and no world makes.
+    text = ("[near]\n[goal:g]\n  [action]\n"
+            "    [b##blk_jump: CND({CLASS #Human T ?a (B: near(1.0))} ! {TRUE}) TRJMP(close) "
+            "FLSJMP()]\n"
+            "    [b##blk_jump: CND({CLASS #Human T ?b (B: near(0.5))} ! {TRUE}) TRJMP(busy) "
+            "FLSJMP(calm)]\n"
             + inst("busy", 300) + "    [b##blk_terminus]\n"
-            + inst("calm", 1000) + "    [b##blk_terminus]\n")
+            + inst("calm", 1000) + "    [b##blk_terminus]\n"
+            + inst("close", 2000) + "    [b##blk_terminus]\n")
     v = verified(text)
     assert statuses(v)["blocks"] == UNKNOWN and statuses(v)["duration"] == UNKNOWN
-    assert statuses(v)["goals"] == PROVED  # through `calm`, the second way tried
+    assert statuses(v)["goals"] == PROVED  # through `calm` or `close`
+
+
+MODE = ("[mode]\n[goal:g]\n  [action]\n"
+        '    [b##blk_jump: CND({VAR @mode U F: str("calm")} ! {TRUE}) TRJMP() FLSJMP()]\n'
+        + inst("w", 500)
+        + '    [b##blk_jump: CND(! {E: eq(@mode, "busy")}) TRJMP(busy) FLSJMP(calm)]\n'
+        + inst("busy", 300) + "    [b##blk_terminus]\n"
+        + inst("calm", 1000) + "    [b##blk_terminus]\n")
+
+
+def test_a_variable_given_a_constant_is_the_robots() -> None:
+    # `@mode` is "calm" (scope U) from the first reading: the jump after the wait compares it
+    # with "busy", false: `busy` is never read, the session lasts 500 + 1000 ms.
+    v = verified(MODE)
+    assert v.model.tracked == {"@mode"}
+    assert (v.duration_min, v.duration_max) == (1500, 1500)
+    blocks = v.finding("blocks")
+    assert blocks.status == VIOLATED  # `busy` and the terminus after it
+    assert [i.key for i in blocks.items] == ["goal0/act0/blk3", "goal0/act0/blk4"]
+    assert statuses(v)["duration"] == PROVED
+
+
+def test_a_variable_of_scope_l_is_gone_once_time_passes() -> None:
+    # With scope L the reader's step ends at `w`: `@mode` is unset when the jump reads it,
+    # and no comparison with a missing value holds, `neq` included.
+    text = MODE.replace("VAR @mode U", "VAR @mode L").replace("eq(@mode", "neq(@mode")
+    v = verified(text)
+    assert (v.duration_min, v.duration_max) == (1500, 1500)  # `neq` false: calm
+    same_read = MODE.replace("VAR @mode U", "VAR @mode L").replace(inst("w", 500), "")
+    v = verified(same_read)  # read in the same step, before any time passes: still set
+    assert (v.duration_min, v.duration_max) == (1000, 1000)
+
+
+def test_a_variable_given_the_time_or_the_world_is_the_worlds() -> None:
+    v = verified(MODE.replace('F: str("calm")', "F: now()"))
+    assert not v.model.tracked and (v.duration_min, v.duration_max) == (800, 1500)
 
 
 # -- the rule library's overrides --------------------------------------------------------------
@@ -440,9 +479,9 @@ def test_every_example_is_verified(name: str) -> None:
 @st.composite
 def activities(draw) -> str:
     """Small activities: instruction blocks of random lengths, jumps on the world (a child
-    near) or on the elapsed time, to random labels forwards and backwards, a terminus, and
-    sometimes an override to the second goal (when the child is far, when a time has
-    passed, or at once)."""
+    near), on the elapsed time, or that set or compare a variable, to random labels forwards
+    and backwards, a terminus, and sometimes an override to the second goal (when the child
+    is far, when a time has passed, or at once)."""
     n = draw(st.integers(3, 9))
     labels = [f"b{i}" for i in range(n)]
     lines = ["[random_activity]\n"]
@@ -457,7 +496,7 @@ def activities(draw) -> str:
     for i in range(n):
         if i == n // 2:
             lines.append("[goal:g1]\n  [action]\n")
-        kind = draw(st.sampled_from(["inst", "inst", "world", "time", "end"]))
+        kind = draw(st.sampled_from(["inst", "inst", "world", "time", "end", "set", "test"]))
         if kind == "inst" or i == 0:
             ms = draw(st.sampled_from([0, 100, 300, 500, 700]))
             lines.append(inst(labels[i], ms) if ms else
@@ -465,7 +504,13 @@ def activities(draw) -> str:
         elif kind == "end":
             lines.append(f"    [b#{labels[i]}#blk_terminus]\n")
         else:
-            cond = NEAR if kind == "world" else late(draw(st.sampled_from([400, 1000, 2500])))
+            if kind == "set":  # a variable given a text, of some scope
+                scope, value = draw(st.sampled_from("ULT")), draw(st.sampled_from("ab"))
+                cond = f'{{VAR @m {scope} F: str("{value}")}} ! {{TRUE}}'
+            elif kind == "test":
+                cond = f'! {{E: {draw(st.sampled_from(["eq", "neq"]))}(@m, "a")}}'
+            else:
+                cond = NEAR if kind == "world" else late(draw(st.sampled_from([400, 1000, 2500])))
             target = labels[draw(st.integers(0, n - 1))]
             lines.append(f"    [b#{labels[i]}#blk_jump: CND({cond}) TRJMP({target}) FLSJMP()]\n")
     lines.append("    [b##blk_terminus]\n")

@@ -13,6 +13,12 @@ assignments left to right, then its evaluations up to a `{TRUE}`. Each part is o
   a VAR or an ATT holding what was read from them, `goalreached`, which a sensor may record),
   or what verify does not model (a repository's own functions): either outcome is possible.
 
+The script's variables are the robot's when what they hold is known: a VAR the script only
+ever gives constant texts (`F: str("calm")`, `F: str(2)`, or another such VAR) is *tracked*:
+a run's state holds its value (or that it is unset) with its scope, an assignment sets it, and
+a comparison that reads it is decided (`branches_of`). Any other VAR (the time, `F: now()`;
+what was read from the world) is the world's.
+
 The whole condition is true when every part is (the evaluator stops at the first that fails),
 so it can be true at the instants every timed part allows (unless a part is constant false or
 a free part can never hold), and false at the instants some part can fail. A condition with no
@@ -29,7 +35,7 @@ from typing import TYPE_CHECKING
 
 from scriptc.ir import nodes as ir
 from scriptc.ir.walk import ConditionVisitor
-from scriptc.runtime.commands import Value, as_number, compare
+from scriptc.runtime.commands import Value, as_number, compare, to_text
 from scriptc.source import Span
 from scriptc.verify.timeset import TimeSet
 
@@ -111,6 +117,23 @@ class Outcomes:
                    for p in self.parts)
 
 
+# A run's tracked variables: (name, value or None when unset, scope rank), sorted by name.
+Valuation = tuple[tuple[str, str | None, int], ...]
+_RANK = {"L": 0, "T": 1, "U": 2}
+
+
+@dataclass(frozen=True, slots=True)
+class Branch:
+    """One way a condition can come out from a valuation of the tracked variables: the
+    `outcome`, the instants it can (`at`), the valuation after it (the assignments made up
+    to where the condition was decided), and whether the world decides it."""
+
+    outcome: bool
+    at: TimeSet
+    valuation: Valuation
+    world: bool
+
+
 def _constant(value: bool, what: str, span: Span | None = None) -> Part:
     return Part(ALWAYS if value else NEVER, NEVER if value else ALWAYS, False, what, span)
 
@@ -145,12 +168,15 @@ class _Reader(ConditionVisitor):
     """The parts of one condition (see the module's docstring)."""
 
     def __init__(self, functions: Implementations | None, standard: Implementations,
-                 activity: str, exact_activity: bool) -> None:
+                 activity: str, exact_activity: bool,
+                 values: dict[str, tuple[str | None, int]] | None = None) -> None:
         self.functions = functions
         self.standard = standard
         self.activity = activity  # the running script's name: its Activity's `activityid`
         self.exact_activity = exact_activity
         self.aliases: dict[str, str] = {}  # alias -> class, bound in this condition
+        # The tracked variables' values as the condition runs (None: nothing is tracked).
+        self.values = values
 
     # -- values ---------------------------------------------------------------------------------
 
@@ -175,6 +201,9 @@ class _Reader(ConditionVisitor):
         return TOP
 
     def visit_var(self, value: ir.VarRef, this: str | None) -> Abstract:
+        values = self.values
+        if values is not None and value.name.text in values:
+            return Const(values[value.name.text][0])
         return TOP
 
     def _activity_field(self, name: str) -> Abstract:
@@ -239,6 +268,18 @@ class _Reader(ConditionVisitor):
 
     def visit_var_assignment(self, a: ir.VarAssignment) -> Part:
         name = a.call.name.text
+        values, var = self.values, a.var.name.text
+        if values is not None and var in values:
+            # A tracked variable: only `str` of a constant or of another tracked one.
+            given = self.visit(a.call.args[0], None)
+            assert isinstance(given, Const) and name == "str"
+            text = to_text(given.value)
+            if text is None:
+                return _constant(False, f"`{var}` gets no value", a.span)
+            rank = max(_RANK.get(a.scope.text, 2), values[var][1] if values[var][0] is not None
+                       else -1)
+            values[var] = (text, rank)
+            return _constant(True, f"`{var}` takes the text `{text}`", a.span)
         if name == "now" and self._runs_standard("now"):
             return _constant(True, f"`{a.var.name.text}` takes the time", a.span)
         if name == "str" and self._runs_standard("str") and a.call.args:
@@ -353,3 +394,80 @@ def outcomes_of(condition: ir.Condition, *, activity: str, exact_activity: bool 
         parts.append(reader.visit(evaluation))
     whole = _conjunction(parts, "the condition", condition.span)
     return Outcomes(whole.true_at, whole.false_at, whole.world, tuple(parts))
+
+
+def branches_of(condition: ir.Condition, valuation: Valuation, *, activity: str,
+                exact_activity: bool = True, functions: Implementations | None = None
+                ) -> list[Branch]:
+    """How `condition` can come out when the tracked variables hold `valuation` (see the
+    module's docstring): true when every part can be, with every assignment made; false
+    where some part fails with those before it true, with the assignments before it made.
+    Branches that lead to the same valuation with the same outcome are one."""
+    from scriptc.runtime.functions import STANDARD_IMPLEMENTATIONS
+
+    if condition.is_constant_true:
+        return [Branch(True, ALWAYS, valuation, False)]
+    values = {name: (value, rank) for name, value, rank in valuation}
+    reader = _Reader(functions, STANDARD_IMPLEMENTATIONS, activity, exact_activity, values)
+    parts: list[Part] = []
+    after: list[Valuation] = []  # the valuation once each part has run
+    for node in (*condition.assignments, *condition.evaluations):
+        if isinstance(node, ir.TrueEvaluation):
+            break
+        parts.append(reader.visit(node))
+        after.append(tuple(sorted((name, v, r) for name, (v, r) in values.items())))
+    out: dict[tuple[bool, Valuation], Branch] = {}
+
+    def add(outcome: bool, at: TimeSet, result: Valuation, world: bool) -> None:
+        if not at:
+            return
+        key = (outcome, result)
+        had = out.get(key)
+        out[key] = Branch(outcome, at, result, world) if had is None else Branch(
+            outcome, had.at | at, result, had.world or world)
+
+    held = ALWAYS  # the instants every part so far can hold at
+    world = False
+    for k, part in enumerate(parts):
+        before = valuation if k == 0 else after[k - 1]
+        add(False, held & part.false_at, before, world or part.world)
+        held = held & part.true_at
+        world = world or part.world
+    add(True, held, after[-1] if after else valuation, world)
+    return list(out.values())
+
+
+def tracked_variables(conditions: list[ir.Condition], elsewhere: list[ir.Condition],
+                      functions: Implementations | None = None) -> frozenset[str]:
+    """The variables verify tracks (see the module's docstring): those the `conditions` (the
+    script's jumps) give only constant texts, or the values of other tracked variables, with
+    the standard `str`, and that no condition of `elsewhere` (the rules') assigns."""
+    from scriptc.runtime.functions import STANDARD_IMPLEMENTATIONS
+
+    standard = STANDARD_IMPLEMENTATIONS.get("str")
+    str_is_standard = standard is not None and (
+        functions is None or functions.get("str") is standard)
+    sources: dict[str, list[ir.Value | None]] = {}  # var -> what each assignment gives it
+    for condition in conditions:
+        for a in condition.assignments:
+            if isinstance(a, ir.VarAssignment):
+                given = (a.call.args[0] if a.call.name.text == "str" and str_is_standard
+                         and len(a.call.args) == 1 else None)
+                sources.setdefault(a.var.name.text, []).append(given)
+    for condition in elsewhere:
+        for a in condition.assignments:
+            if isinstance(a, ir.VarAssignment):
+                sources.setdefault(a.var.name.text, []).append(None)
+    tracked = set(sources)
+    changed = True
+    while changed:  # a variable given another's value is tracked only if that one is
+        changed = False
+        for var in list(tracked):
+            for given in sources[var]:
+                ok = isinstance(given, (ir.NumberValue, ir.StringValue)) or (
+                    isinstance(given, ir.VarRef) and given.name.text in tracked)
+                if not ok:
+                    tracked.discard(var)
+                    changed = True
+                    break
+    return frozenset(tracked)

@@ -70,6 +70,7 @@ class Move:
     spread: int = 0
     switch: int = -1
     gate: TimeSet = ALWAYS
+    values: int = -1  # the valuation after it (-1: the same as before)
 
 
 @dataclass(frozen=True, slots=True)
@@ -164,34 +165,35 @@ class Exploration:
         return out
 
 
-def moves(model: Model, i: int, fired: int = 0) -> list[Move]:
+def moves(model: Model, i: int, fired: int = 0, valuation: int = 0) -> list[Move]:
     """The moves of the reader from block `i` (to `model.end`: past the last block) when the
-    switches of the bits `fired` have fired: the block's own, and from an instruction block
-    each switch that may still fire."""
+    switches of the bits `fired` have fired and the tracked variables hold the valuation
+    numbered `valuation`: the block's own, and from an instruction block each switch that may
+    still fire."""
     step = model.steps[i]
     if step.kind == JUMP:
-        outcomes = step.outcomes
-        assert outcomes is not None
-        return [Move(i, step.on_true, True, 0, outcomes.true_at),
-                Move(i, step.on_false, False, 0, outcomes.false_at)]
+        return [Move(i, step.on_true if branch.outcome else step.on_false, branch.outcome, 0,
+                     branch.at, values=after)
+                for branch, after in model.branches(i, valuation)]
     if step.kind == SENSOR:
         return [Move(i, step.next, None, 0, ALWAYS)]
     if step.kind == TERMINUS:
         return []
     assert step.kind == INSTRUCTION
+    cleared = model.cleared(valuation)  # the reader's step ends: its L and T variables go
     out: list[Move] = []
     finished = ALWAYS
     for switch in model.switches:
         if fired >> switch.bit & 1:
             continue
         to = ENDED if switch.target == ENDS else switch.target
-        out += _switch_moves(step, switch.when, switch.bit, to)
+        out += _switch_moves(step, switch.when, switch.bit, to, cleared)
         if not switch.when.world:
             # Nothing of the world holds it back: at an instant of the block where it holds,
             # the chain fires it, and the block is not finished from that arrival.
             for o in step.instants:
                 finished = finished & _earlier(switch.when.false_at, o)
-    out.insert(0, Move(i, step.next, None, step.length, finished))
+    out.insert(0, Move(i, step.next, None, step.length, finished, values=cleared))
     return out
 
 
@@ -200,7 +202,7 @@ def _earlier(times: TimeSet, offset: int) -> TimeSet:
     return times.clip(offset, None).shift(-offset) if offset else times
 
 
-def _switch_moves(step: Step, when: Outcomes, bit: int, to: int) -> list[Move]:
+def _switch_moves(step: Step, when: Outcomes, bit: int, to: int, values: int) -> list[Move]:
     """The moves of a switch from the instruction block `step` (see `moves`): the world can
     make an instant of the run at any millisecond, so the switch fires at any instant of the
     block its condition allows, unless the condition is decided without the world: then it
@@ -210,40 +212,53 @@ def _switch_moves(step: Step, when: Outcomes, bit: int, to: int) -> list[Move]:
     the stretch it holds."""
     i, length = step.index, step.length
     if when.world:
-        return [Move(i, to, None, 0, when.true_at, max(length - 1, 0), bit)]
+        return [Move(i, to, None, 0, when.true_at, max(length - 1, 0), bit, values=values)]
     out: list[Move] = []
     gate = ALWAYS
     bounds = [*step.instants, max(length - 1, 0)]
     for k, o in enumerate(step.instants):
         if k == 0:
-            out.append(Move(i, to, None, 0, when.true_at, 0, bit, gate))
+            out.append(Move(i, to, None, 0, when.true_at, 0, bit, gate, values))
         else:
             start = step.instants[k - 1] + 1
-            out.append(Move(i, to, None, start, when.true_at, o - start, bit, gate))
+            out.append(Move(i, to, None, start, when.true_at, o - start, bit, gate, values))
         gate = gate & _earlier(when.false_at, o)
     last = step.instants[-1]
     if bounds[-1] > last:  # after the last instant, before the end: only the world's instants
-        out.append(Move(i, to, None, last + 1, when.true_at, bounds[-1] - last - 1, bit, gate))
+        out.append(Move(i, to, None, last + 1, when.true_at, bounds[-1] - last - 1, bit, gate,
+                        values))
     return out
 
 
-def cycles(model: Model, fired: int = 0) -> dict[int, list[Cycle]]:
-    """The cycles of the script that take time, by head, when the switches `fired` have
-    fired (see the module's docstring): a head is a block a later block moves back to; its
-    cycles are the simple paths from it back to it through blocks after it that can lead
-    back to it (at most MAX_CYCLES, each of at most MAX_CYCLE_BLOCKS blocks). A switch's move
-    is on no cycle: a switch fires once."""
-    out_moves = [[m for m in moves(model, i, fired) if m.allowed and m.switch < 0]
-                 for i in range(model.end)]
+def cycles(model: Model, fired: int = 0, valuation: int = 0) -> dict[int, list[Cycle]]:
+    """The cycles of the script that take time, by head, in the state of the switches `fired`
+    and the valuation numbered `valuation` (see the module's docstring): a head is a block a
+    later block can move back to; its cycles are the simple paths from it back to it, in the
+    same valuation, through blocks after it that can lead back to it (at most MAX_CYCLES,
+    each of at most MAX_CYCLE_BLOCKS blocks). A switch's move is on no cycle: a switch fires
+    once."""
     into: dict[int, list[int]] = {}
-    for i, ms in enumerate(out_moves):
-        for m in ms:
-            into.setdefault(m.to, []).append(i)
-    heads = sorted({m.to for i, ms in enumerate(out_moves) for m in ms if m.to <= i})
+    heads: set[int] = set()
+    for step in model.steps:
+        targets = ((step.on_true, step.on_false) if step.kind == JUMP else
+                   () if step.kind == TERMINUS else (step.next,))
+        for to in targets:
+            into.setdefault(to, []).append(step.index)
+            if to <= step.index:
+                heads.add(to)
+    cache: dict[tuple[int, int], list[Move]] = {}
+
+    def ways(block: int, values: int) -> list[Move]:
+        found = cache.get((block, values))
+        if found is None:
+            found = cache[(block, values)] = [
+                m for m in moves(model, block, fired, values) if m.allowed and m.switch < 0]
+        return found
+
     out: dict[int, list[Cycle]] = {}
-    for head in heads:
-        # The blocks after the head from which it can be reached again: a cycle goes through
-        # these only.
+    for head in sorted(heads):
+        # The blocks after the head from which it can be reached again, whatever the values:
+        # a cycle goes through these only.
         back = {head}
         stack = [head]
         while stack:
@@ -252,7 +267,7 @@ def cycles(model: Model, fired: int = 0) -> dict[int, list[Cycle]]:
                     back.add(j)
                     stack.append(j)
         found: list[Cycle] = []
-        for path in _paths_back(out_moves, head, back):
+        for path in _paths_back(ways, head, valuation, back):
             period = sum(m.delay for m in path)
             if period > 0:
                 found.append(Cycle(head, path, period))
@@ -261,22 +276,26 @@ def cycles(model: Model, fired: int = 0) -> dict[int, list[Cycle]]:
     return out
 
 
-def _paths_back(out_moves: list[list[Move]], head: int, back: set[int]
-                ) -> Iterator[tuple[Move, ...]]:
-    """Simple paths from `head` back to it through the blocks of `back`, depth first."""
+def _paths_back(ways: Callable[[int, int], list[Move]], head: int, valuation: int,
+                back: set[int]) -> Iterator[tuple[Move, ...]]:
+    """Simple paths from `head` back to it in the same valuation, through the blocks of
+    `back`, depth first."""
     count = steps = 0
-    stack: list[tuple[int, tuple[Move, ...], frozenset[int]]] = [(head, (), frozenset())]
+    stack: list[tuple[int, int, tuple[Move, ...], frozenset[tuple[int, int]]]] = [
+        (head, valuation, (), frozenset())]
     while stack and count < MAX_CYCLES and steps < MAX_CYCLE_BLOCKS * MAX_CYCLES * 8:
-        node, path, seen = stack.pop()
+        node, values, path, seen = stack.pop()
         steps += 1
         if len(path) >= MAX_CYCLE_BLOCKS:
             continue
-        for move in reversed(out_moves[node]):
+        for move in reversed(ways(node, values)):
+            after = values if move.values < 0 else move.values
             if move.to == head:
-                count += 1
-                yield (*path, move)
-            elif move.to in back and move.to not in seen:
-                stack.append((move.to, (*path, move), seen | {move.to}))
+                if after == valuation:
+                    count += 1
+                    yield (*path, move)
+            elif move.to in back and (move.to, after) not in seen:
+                stack.append((move.to, after, (*path, move), seen | {(move.to, after)}))
 
 
 def explore(model: Model, *, max_records: int = MAX_RECORDS,
@@ -289,7 +308,8 @@ def explore(model: Model, *, max_records: int = MAX_RECORDS,
     end = model.end
     found = Exploration(model, [TimeSet.empty() for _ in model.steps],
                         [[] for _ in model.steps])
-    loops: dict[int, dict[int, list[Cycle]]] = {}  # fired -> head -> cycles
+    loops: dict[tuple[int, int], dict[int, list[Cycle]]] = {}  # state -> head -> cycles
+    width = 1 << len(model.switches)  # the sets of switches fired
     out_moves: dict[int, list[Move]] = {}  # state -> moves
     pending: dict[int, tuple[TimeSet, list[Source]]] = {}
     heap: list[tuple[int, int]] = []
@@ -336,7 +356,8 @@ def explore(model: Model, *, max_records: int = MAX_RECORDS,
                 if progress is not None:
                     progress(found.count)
             times, sources = entry
-            fired, i = divmod(node, end)
+            rest, i = divmod(node, end)
+            valuation, fired = divmod(rest, width)
             known = found.states.get(node, TimeSet.empty())
             new = times - known
             if not new:
@@ -344,9 +365,9 @@ def explore(model: Model, *, max_records: int = MAX_RECORDS,
             serial += 1
             found.count += 1
             record = Record(node, new, new, sources, serial, block=i)
-            heads = loops.get(fired)
+            heads = loops.get((fired, valuation))
             if heads is None:
-                heads = loops[fired] = cycles(model, fired)
+                heads = loops[(fired, valuation)] = cycles(model, fired, valuation)
             for cycle in heads.get(i, ()):
                 turns = _turns(cycle, new)
                 if turns is None or turns >= 2:
@@ -366,7 +387,7 @@ def explore(model: Model, *, max_records: int = MAX_RECORDS,
                 continue
             ways = out_moves.get(node)
             if ways is None:
-                ways = out_moves[node] = moves(model, i, fired)
+                ways = out_moves[node] = moves(model, i, fired, valuation)
             for move in ways:
                 if move.switch >= 0:
                     gated = record.times if move.gate is ALWAYS else record.times & move.gate
@@ -380,8 +401,9 @@ def explore(model: Model, *, max_records: int = MAX_RECORDS,
                     if move.to == ENDED:
                         arrive(ENDED, at, Source(record, move), "override")
                     else:
-                        arrive((fired | 1 << move.switch) * end + move.to, at,
-                               Source(record, move))
+                        after = valuation if move.values < 0 else move.values
+                        arrive((after * width + (fired | 1 << move.switch)) * end + move.to,
+                               at, Source(record, move))
                     continue
                 at = record.times if move.allowed is ALWAYS else record.times & move.allowed
                 if not at:
@@ -390,7 +412,8 @@ def explore(model: Model, *, max_records: int = MAX_RECORDS,
                 if move.to >= end:
                     arrive(ENDED, later, Source(record, move), "past_end")
                     continue
-                to = fired * end + move.to
+                after = valuation if move.values < 0 else move.values
+                to = (after * width + fired) * end + move.to
                 if move.delay == 0:
                     key = (node, to)
                     found.zero_edges[key] = found.zero_edges.get(key, TimeSet.empty()) | at

@@ -21,7 +21,14 @@ from typing import TYPE_CHECKING
 
 from scriptc.ir import nodes as ir
 from scriptc.runtime.commands import BlockAddress, BlockCommands
-from scriptc.verify.conditions import Outcomes, outcomes_of
+from scriptc.verify.conditions import (
+    Branch,
+    Outcomes,
+    Valuation,
+    branches_of,
+    outcomes_of,
+    tracked_variables,
+)
 
 if TYPE_CHECKING:
     from scriptc.runtime.functions import Implementations
@@ -119,9 +126,58 @@ class Model:
                 steps.append(Step(i, where, kind, address[0], label, block.span, next=i + 1))
         self.steps = tuple(steps)
         self.switches, self.assumed = _rules(program, rules, exact, functions)
+        # The variables verify tracks (conditions.tracked_variables), and the valuations of
+        # them runs reach, numbered as met (0: every one unset, as a run starts).
+        self.exact = exact
+        self.functions = functions
+        jumps = [b.condition for _, b in blocks if isinstance(b, ir.JumpBlock)]
+        self.tracked = tracked_variables(jumps, [s.condition for s in self.switches],
+                                         functions)
+        self.valuations: list[Valuation] = [tuple((name, None, -1)
+                                                  for name in sorted(self.tracked))]
+        self._valuation_ids: dict[Valuation, int] = {self.valuations[0]: 0}
+        self._branches: dict[tuple[int, int], list[tuple[Branch, int]]] = {}
 
     def goal_of(self, index: int) -> int:
         return self.steps[index].goal
+
+    def valuation_id(self, valuation: Valuation) -> int:
+        """The number of a valuation of the tracked variables (given when first met)."""
+        found = self._valuation_ids.get(valuation)
+        if found is None:
+            found = self._valuation_ids[valuation] = len(self.valuations)
+            self.valuations.append(valuation)
+        return found
+
+    def branches(self, index: int, valuation: int) -> list[tuple[Branch, int]]:
+        """How the jump at block `index` can come out under the valuation numbered
+        `valuation`: each branch with the number of the valuation after it."""
+        key = (index, valuation)
+        found = self._branches.get(key)
+        if found is None:
+            step = self.steps[index]
+            assert step.outcomes is not None
+            if not self.tracked:
+                outcomes = step.outcomes
+                found = [(Branch(True, outcomes.true_at, (), outcomes.world), 0),
+                         (Branch(False, outcomes.false_at, (), outcomes.world), 0)]
+            else:
+                block = self.program.blocks[index][1]
+                assert isinstance(block, ir.JumpBlock)
+                found = [(b, self.valuation_id(b.valuation)) for b in branches_of(
+                    block.condition, self.valuations[valuation], activity=self.name,
+                    exact_activity=self.exact, functions=self.functions)]
+            self._branches[key] = found
+        return found
+
+    def cleared(self, valuation: int) -> int:
+        """The valuation once the block reader's step ends (an instruction block issued): the
+        variables of scope `L` and `T` are unset (`runtime/bindings.py`)."""
+        if not self.tracked:
+            return valuation
+        kept = tuple((name, value if rank == 2 else None, rank if rank == 2 else -1)
+                     for name, value, rank in self.valuations[valuation])
+        return self.valuation_id(kept)
 
 
 def _instants(commands: BlockCommands) -> tuple[int, ...]:
