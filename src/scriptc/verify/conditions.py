@@ -110,12 +110,6 @@ class Outcomes:
     world: bool
     parts: tuple[Part, ...]
 
-    @property
-    def timed(self) -> bool:
-        """Whether the time decides some part (the outcome depends on when it is read)."""
-        return any(not p.world and p.true_at != ALWAYS and p.true_at != NEVER
-                   for p in self.parts)
-
 
 # A run's tracked variables: (name, value or None when unset, scope rank), sorted by name.
 Valuation = tuple[tuple[str, str | None, int], ...]
@@ -232,13 +226,8 @@ class _Reader(ConditionVisitor):
         return _free(what, span)
 
     def _standard(self, name: str) -> bool:
-        """Whether `name` runs the standard implementation (a repository may not redefine
-        it, but verify does not rely on that)."""
-        if name not in _COMPARISONS:
-            return False
-        ours = self.standard.get(name)
-        theirs = ours if self.functions is None else self.functions.get(name)
-        return ours is not None and theirs is ours
+        """Whether `name` is a standard comparison that runs the standard implementation."""
+        return name in _COMPARISONS and self._runs_standard(name)
 
     # -- parts ----------------------------------------------------------------------------------
 
@@ -306,6 +295,8 @@ class _Reader(ConditionVisitor):
         return _free(f"what `{name}` says", e.span)
 
     def _runs_standard(self, name: str) -> bool:
+        """Whether the run's `name` is the standard implementation (a repository may not
+        redefine one, but verify does not rely on that)."""
         ours = self.standard.get(name)
         theirs = ours if self.functions is None else self.functions.get(name)
         return ours is not None and theirs is ours

@@ -138,9 +138,6 @@ class Model:
         self._valuation_ids: dict[Valuation, int] = {self.valuations[0]: 0}
         self._branches: dict[tuple[int, int], list[tuple[Branch, int]]] = {}
 
-    def goal_of(self, index: int) -> int:
-        return self.steps[index].goal
-
     def valuation_id(self, valuation: Valuation) -> int:
         """The number of a valuation of the tracked variables (given when first met)."""
         found = self._valuation_ids.get(valuation)
