@@ -7,7 +7,8 @@
 For each module it makes mutants, one change each, by rewriting the module's syntax tree:
 comparisons flipped (`<` to `<=`, `==` to `!=`, `in` to `not in`, ...), `and` and `or`
 swapped, `not` dropped, arithmetic operators swapped (`+` to `-`, ...), constants moved (a
-number `n` to `n + 1`, `True` to `False`, a non-empty string to another), and statements
+number `n` to `n + 1`, `True` to `False`, a non-empty string to another; one given as a
+keyword argument is named with its keyword, `slots=True` to `slots=False`), and statements
 dropped (a statement replaced by `pass`; a `return x` by `return None`). Each mutant is run
 against the tests that cover the mutated line (coverage.py with one context per test item,
 parameters included, measured once per run over the whole suite), fastest first, in a fresh
@@ -162,6 +163,11 @@ def _sites(tree: ast.AST) -> list[tuple[ast.AST, str, object]]:
     docs = _docstring_nodes(tree)
     sites: list[tuple[ast.AST, str, object]] = []
     in_annotation: set[int] = set()
+    # A constant given as a keyword argument is named by its keyword (`slots=True` to
+    # `slots=False`): two such constants of one line would otherwise have one description,
+    # and an entry of mutate_equivalent.toml could not tell them apart.
+    keywords = {id(node.value): node.arg for node in ast.walk(tree)
+                if isinstance(node, ast.keyword) and node.arg is not None}
     for node in ast.walk(tree):
         for field in ("annotation", "returns"):
             ann = getattr(node, field, None)
@@ -186,7 +192,7 @@ def _sites(tree: ast.AST) -> list[tuple[ast.AST, str, object]]:
         elif (isinstance(node, ast.Constant) and not isinstance(node.value, bytes)
               and (isinstance(node.value, (bool, int, float))
                    or (isinstance(node.value, str) and node.value))):
-            sites.append((node, "constant", None))
+            sites.append((node, "constant", keywords.get(id(node))))
         if isinstance(node, ast.stmt) and not _skippable(node) \
                 and not isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
             if isinstance(node, ast.Return) and node.value is not None:
@@ -224,6 +230,8 @@ def _mutate(node: ast.AST, kind: str, detail: object) -> tuple[ast.AST, str]:
             new.value = value + 1
         else:
             new.value = "\x00mutated\x00"
+        if detail is not None:
+            return new, f"`{detail}={value!r}` to `{detail}={new.value!r}`"
         return new, f"{value!r} to {new.value!r}"
     if kind == "return":
         new.value = ast.Constant(None)

@@ -339,11 +339,25 @@ def test_a_rule_context_has_defaults_for_what_it_is_not_told() -> None:
 @pytest.mark.parametrize("params, problem", [
     ("1x=2", "parameters are `key=value` pairs separated by `;`, found `1x=2`"),
     ("a b=2", "parameters are `key=value` pairs separated by `;`, found `a b=2`"),
+    # what is wrong is quoted without the spaces after the `;` before it
+    ("distance=0.6;   near", "parameters are `key=value` pairs separated by `;`, found `near`"),
 ])
 def test_rule_parameters_need_a_name_before_each_equals_sign(params: str, problem: str) -> None:
     with pytest.raises(RuleError) as info:
         parse_params(params)
     assert str(info.value) == problem
+
+
+def test_a_rule_keeps_the_message_that_made_it() -> None:
+    made = RuleMessage("alfa", 2, "o", "script=next", "robot/answers", "A", "U")
+    rule = STANDARD_RULES.make(made)
+    assert rule.message is made and rule.message.outtopic == "robot/answers"
+    assert (rule.id, rule.rulecode, rule.params) == ("o", 2, {"script": "next"})
+
+
+def test_an_override_with_an_empty_when_holds_always() -> None:
+    rule = STANDARD_RULES.make(message("A", rulecode=2, intopic="when="))
+    assert rule.params == {"when": ""} and rule.condition.is_constant_true
 
 
 def test_an_override_at_a_path_that_is_no_path_cannot_be_made() -> None:

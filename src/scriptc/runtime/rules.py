@@ -78,7 +78,7 @@ def parse_condition_text(text: str) -> ir.Condition:
             raise RuleError(f"condition `{text}`: unknown scope `{scope}` (the scopes are "
                             f"{', '.join(SCOPES)})")
         if isinstance(assignment, ir.ClassAssignment):
-            cls = assignment.class_name.text.removeprefix("#")
+            cls = assignment.class_name.text  # (lowering strips the `#`)
             if cls not in CLASSES:
                 raise RuleError(f"condition `{text}`: unknown class `{cls}` (the classes of "
                                 f"the map are {', '.join(CLASSES)})")
@@ -106,7 +106,8 @@ def parse_params(text: str) -> dict[str, str]:
 
 class Rule:
     """The base of rule bodies. Subclasses set `condition_text` (or `self.condition`) and
-    override `on_true` / `on_false`. `params` are the message's `key=value` parameters."""
+    override `on_true` / `on_false`. `message` is the rule message that made the rule (a body
+    may read its `outtopic`), `params` its `key=value` parameters."""
 
     condition_text = "{TRUE}"
 
