@@ -148,8 +148,10 @@ _USERS_FILES = {
     "/home/me/robot/activities/x.script", "/top.script", "dir/", ".vscode/settings.json",
     ".helix/languages.toml", "node_modules/",
     # made by the tools, ignored by git: absent from a fresh clone
-    ".scriptc_cache/",
+    ".scriptc_cache/", "scriptc-verify/",
 }
+# Folders the tools write into (ignored by git): what the documentation names in them.
+_MADE_BY_TOOLS = ("scriptc-verify/",)
 # A named path: in backquotes, with a `/` and a file's suffix (or a folder's final `/`).
 _PATH = re.compile(r"`(\.{0,2}/?[A-Za-z0-9_.-]+(?:/[A-Za-z0-9_.-]+)*/?)`")
 
@@ -168,7 +170,7 @@ def missing_files(documents) -> list[str]:
                 continue
             if re.search(r"\b(NAME|CODE)\b|\.\.\.", name) and name not in _USERS_FILES:
                 continue  # a pattern: `tests/cases/fmt/NAME.script`
-            if name in _USERS_FILES or name in scaffold:
+            if name in _USERS_FILES or name in scaffold or name.startswith(_MADE_BY_TOOLS):
                 continue
             places = [ROOT / base / name for base in _BASES] + [document.parent / name]
             if not any(place.exists() for place in places):
