@@ -326,6 +326,7 @@ def test_exit_status_says_what_was_found(folder: Path, monkeypatch: pytest.Monke
     assert result.exit_code == 2 and "has no goal `nope`" in result.output
 
 
+@pytest.mark.slow  # a process of its own
 def test_json_is_one_object_per_file(folder: Path) -> None:
     done = run_cli(["verify", "--json", "branch.script", "stall.script"], folder)
     assert done.returncode == 1, done.stderr
@@ -343,6 +344,7 @@ def test_json_is_one_object_per_file(folder: Path) -> None:
     assert isinstance(first["states"], int) and first["seconds"] >= 0
 
 
+@pytest.mark.slow  # a process of its own
 def test_sarif_and_github_point_at_the_line(folder: Path) -> None:
     sarif = json.loads(run_cli(["verify", "--format", "sarif", "never.script"], folder).stdout)
     results = sarif["runs"][0]["results"]
@@ -353,6 +355,7 @@ def test_sarif_and_github_point_at_the_line(folder: Path) -> None:
     assert github.startswith("::error file=") and "line=5" in github and "Y001" in github
 
 
+@pytest.mark.slow  # a process of its own
 def test_text_shows_each_property_and_the_replay(folder: Path) -> None:
     done = run_cli(["verify", "--stats", "stall.script"], folder)
     out = done.stdout
@@ -367,6 +370,7 @@ def test_text_shows_each_property_and_the_replay(folder: Path) -> None:
     assert "no run written for `--witness slowest`: no run ends at a greatest time" in done.stdout
 
 
+@pytest.mark.slow  # a process of its own
 def test_a_terminal_sees_the_exploration_under_way(tmp_path: Path) -> None:
     """On a terminal (stderr a pseudo-terminal here) a status line says how far the
     exploration is; it goes away at the end, and stdout stays the report."""
@@ -398,6 +402,7 @@ def test_a_terminal_sees_the_exploration_under_way(tmp_path: Path) -> None:
     assert out.decode().startswith("verify long.script\n")
 
 
+@pytest.mark.slow  # a process of its own
 def test_the_counterexamples_replay_through_scriptc_run(folder: Path) -> None:
     assert run_cli(["verify", "stall.script", "branch.script", "--witness", "slowest",
                     "--witness", "g"], folder).returncode == 1
