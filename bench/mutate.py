@@ -37,7 +37,9 @@ the module does (a `<` that cannot meet equality, a default that the caller alwa
 bench/mutate_equivalent.toml lists them, each with the reason; they are left out of the score
 and counted apart ("equivalent"). An entry names the module, the mutated line's text and the
 change, so it follows the line when code moves above it, and lapses (with a warning) when the
-line itself changes.
+line itself changes; where the module has that text on several lines and not every one's
+mutant is equivalent, the entry also names the function holding the line (`function =
+"Class.method"`).
 
 Tests that reach a module only through a subprocess (`scriptc ...` run as a program) are not
 seen by the coverage contexts: such mutants are tried against no test and survive. The
@@ -130,6 +132,7 @@ class Mutant:
     what: str           # a short description ("`<` to `<=`")
     source: str         # the whole mutated module
     statement: int = 0  # the first line of the innermost statement holding the node
+    function: str = ""  # the innermost function holding it ("Class.method"; "" for none)
 
 
 def _docstring_nodes(tree: ast.AST) -> set[int]:
@@ -269,6 +272,7 @@ def mutants(text: str, path: str) -> list[Mutant]:
     original = ast.parse(text)
     sites = _sites(original)
     statements = _statement_lines(original)
+    functions = _functions(original)
     for index, (site, kind, detail) in enumerate(sites):
         tree = ast.parse(text)  # a fresh tree: the sites of it are found in the same order
         node, kind2, detail2 = _sites(tree)[index]
@@ -282,7 +286,24 @@ def mutants(text: str, path: str) -> list[Mutant]:
         except (SyntaxError, ValueError):
             continue
         found.append(Mutant(path, index, node.lineno, getattr(node, "end_lineno", node.lineno)
-                            or node.lineno, what, source, statements.get(id(site), 0)))
+                            or node.lineno, what, source, statements.get(id(site), 0),
+                            functions.get(id(site), "")))
+    return found
+
+
+def _functions(tree: ast.AST) -> dict[int, str]:
+    """id(node) -> the qualified name of the innermost function holding it (`Class.method`,
+    `function.inner`), "" outside every function."""
+    found: dict[int, str] = {}
+    todo: list[tuple[ast.AST, str, str]] = [(tree, "", "")]  # (node, function, scope)
+    while todo:
+        node, function, scope = todo.pop()
+        found[id(node)] = function
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+            scope = f"{scope}.{node.name}" if scope else node.name
+            if not isinstance(node, ast.ClassDef):
+                function = scope
+        todo.extend((child, function, scope) for child in ast.iter_child_nodes(node))
     return found
 
 
@@ -625,6 +646,7 @@ class Equivalent:
     line: str           # the mutated line's text, stripped
     change: str         # the mutant's description, as printed
     why: str
+    function: str = ""  # the function holding the line, when the entry names one
 
 
 def equivalents(path: Path = EQUIVALENT) -> list[Equivalent]:
@@ -632,7 +654,8 @@ def equivalents(path: Path = EQUIVALENT) -> list[Equivalent]:
     if not path.exists():
         return []
     entries = tomllib.loads(path.read_text(encoding="utf-8")).get("equivalent", [])
-    return [Equivalent(e["module"], e["line"].strip(), e["change"], e["why"]) for e in entries]
+    return [Equivalent(e["module"], e["line"].strip(), e["change"], e["why"],
+                       e.get("function", "")) for e in entries]
 
 
 def main() -> None:
@@ -683,10 +706,14 @@ def main() -> None:
             if args.max:
                 found = found[:args.max]
             text_lines = text.splitlines()
-            by_key = {(e.line, e.change): e for e in listed if e.module == module}
+            by_key: dict[tuple[str, str], list[Equivalent]] = {}
+            for e in listed:
+                if e.module == module:
+                    by_key.setdefault((e.line, e.change), []).append(e)
             equivalent, kept = [], []
             for m in found:
-                entry = by_key.get((text_lines[m.line - 1].strip(), m.what))
+                entry = next((e for e in by_key.get((text_lines[m.line - 1].strip(), m.what), ())
+                              if e.function in ("", m.function)), None)
                 if entry is None:
                     kept.append(m)
                 else:

@@ -1036,6 +1036,58 @@ def test_a_cancelled_block_leaves_nothing_to_start_later() -> None:
     assert not trace.of_kind("cmd_start") and not _stops(trace)
 
 
+def test_thawing_with_no_block_issued_consumes_nothing() -> None:
+    consumed = []
+    act, queue, wheels, _trace = _actuators()
+    act.on_consumed = consumed.append
+    act.freeze(10, True)
+    act.freeze(20, False)
+    _until(queue, 100)
+    assert consumed == [] and not act.block_active and wheels.given == []
+
+
+class Planning(Wheels):
+    """A robot that plans each block's moves ahead (a `Planner`, as the safety governor is):
+    it keeps what it is told."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.told: list[tuple] = []
+
+    def plan_block(self, t_ms: int, moves: tuple[Move, ...], length: int) -> None:
+        self.told.append(("plan", t_ms, moves, length))
+
+    def drop_plan(self, t_ms: int) -> None:
+        self.told.append(("drop", t_ms))
+
+
+@pytest.mark.parametrize("take, give", [
+    (lambda act, t: act.freeze(t, True), lambda act, t: act.freeze(t, False)),
+    (lambda act, t: act.set_hold(t, True), lambda act, t: act.set_hold(t, False)),
+    (lambda act, t: act.drive(t, (0.2, 0.0, 0.0), None), lambda act, t: act.set_safety(t, False)),
+], ids=["frozen", "held", "driven"])
+def test_a_planning_robot_plans_the_blocks_the_script_drives_and_drops_what_it_cannot(
+        take, give) -> None:
+    """The governor plans a block's moves when it is issued, only while the script has the
+    wheels (not while the block is frozen, a rule holds motion or the operator drives); a
+    block cancelled, or whatever else takes the wheels, drops the plan."""
+    robot = Planning()
+    act = Actuators(EventQueue(), robot, Trace(), World())
+    block = BlockCommands(moves=(Move(0.1, 0.0, 0.0, 0, 100), Move(0.0, 0.0, 0.0, 50, 100)))
+    act.issue(0, block)
+    assert robot.told == [("plan", 0, block.moves, 250)]
+    act.cancel(10)
+    assert robot.told[1:] == [("drop", 10)]
+    take(act, 20)  # the wheels are taken from the script: its plan is dropped...
+    # ...and a block issued meanwhile is not planned (its move waits: it does not take the
+    # wheels back from the operator)
+    act.issue(30, BlockCommands(moves=(Move(0.1, 0.0, 0.0, 100, 100),)))
+    assert robot.told[2:] == [("drop", 20), ("drop", 30)]
+    give(act, 40)
+    act.issue(50, block)  # a block replaced: the one running is dropped, the new one planned
+    assert robot.told[4:] == [("drop", 40), ("drop", 50), ("plan", 50, block.moves, 250)]
+
+
 def test_the_operators_drives_and_the_safety_lock() -> None:
     act, queue, wheels, trace = _actuators()
     act.issue(0, BlockCommands(moves=(Move(0.1, 0.0, 0.0, 0, 1000),)))
