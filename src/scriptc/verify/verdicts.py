@@ -478,8 +478,9 @@ class _Judge:
         if not slowest.confirmed:
             notes.append(f"the slowest run, {self.max} ms, was not confirmed: {slowest.why}")
         status = PROVED if exact_min and slowest.confirmed else UNKNOWN
-        return Finding("duration", status,
-                       f"between {_ms(self.min)} and {_ms(self.max)}", notes=notes)
+        span = (f"exactly {_ms(self.min)}" if self.min == self.max else
+                f"between {_ms(self.min)} and {_ms(self.max)}")
+        return Finding("duration", status, span, notes=notes)
 
     def _blocks(self) -> Finding:
         model, found = self.model, self.found
@@ -590,10 +591,12 @@ class _Judge:
                 reasons.append(f"`{_name(step)}` is read ({at}) but never goes on")
             else:
                 word = "true" if via else "false"
-                only = (f"it is {word} only at {allowed.describe()}" if allowed else
-                        f"it is never {word}")
-                reasons.append(f"the jump `{_name(step)}` is read at {at} and is never "
-                               f"{word} then ({only})")
+                if allowed:
+                    reasons.append(f"the jump `{_name(step)}` is read at {at} and is never "
+                                   f"{word} then (it is {word} only at {allowed.describe()})")
+                else:
+                    reasons.append(f"the jump `{_name(step)}` is read at {at}, and its "
+                                   f"condition is {word} in no world")
         if not reasons:
             if index == 0 or index - 1 not in {s.index for s, _, _ in
                                                self._ways_in().get(index, ())}:
