@@ -70,6 +70,52 @@ def test_catching_starts_with_no_request_left_over() -> None:
         interrupt.check()
 
 
+def test_deferred_holds_ctrl_c_and_sigterm_to_its_end_while_other_threads_run() -> None:
+    """The system gives a signal sent to the process to any thread that does not block it (a
+    worker pool's, pytest-xdist's); Python then runs the handler in the main thread: held all
+    the same, delivered once each as the block ends, the handlers put back."""
+    idle = threading.Event()
+    other = threading.Thread(target=idle.wait, daemon=True)  # started before: signals open
+    other.start()
+    got: list[int] = []
+    before_int = signal.getsignal(signal.SIGINT)
+    before_term = signal.signal(signal.SIGTERM, lambda signum, frame: got.append(signum))
+    finished = False
+    try:
+        with pytest.raises(KeyboardInterrupt), interrupt.deferred():
+            os.kill(os.getpid(), signal.SIGINT)
+            os.kill(os.getpid(), signal.SIGTERM)
+            os.kill(os.getpid(), signal.SIGINT)
+            _wait_for(lambda: False, 0.3)  # time for a handler to run, were one let through
+            assert got == []
+            finished = True
+        assert finished
+        assert got == [signal.SIGTERM]
+        assert signal.getsignal(signal.SIGINT) is before_int
+    finally:
+        signal.signal(signal.SIGTERM, before_term)
+        idle.set()
+        other.join()
+
+
+def test_a_worker_forked_inside_deferred_is_ended_by_sigterm_and_ignores_ctrl_c() -> None:
+    from scriptc.ops.workers import start_worker
+
+    with interrupt.deferred():
+        pid = os.fork()
+        if pid == 0:  # the worker: started as the pool starts it, then waits to be stopped
+            try:
+                start_worker()
+                os.kill(os.getpid(), signal.SIGINT)
+                time.sleep(10)
+            finally:
+                os._exit(3)
+    time.sleep(0.3)
+    os.kill(pid, signal.SIGTERM)
+    _, status = os.waitpid(pid, 0)
+    assert os.WIFSIGNALED(status) and os.WTERMSIG(status) == signal.SIGTERM
+
+
 class StopAt(KinematicRobot):
     """A kinematic robot that asks to stop (as Ctrl-C would) once advanced to `at` ms."""
 

@@ -98,16 +98,37 @@ def catching() -> Iterator[None]:
 @contextmanager
 def deferred() -> Iterator[None]:
     """Hold Ctrl-C (SIGINT) and SIGTERM back during the block (see the module's docstring):
-    they are blocked for the thread, so nothing runs for them until the block ends, and one
-    that arrived is delivered then. Only the main thread receives signals; elsewhere, and
-    where signals cannot be blocked, this does nothing. Never around a wait that only the user
-    can end (opening a FIFO that has no reader): Ctrl-C could not end it."""
+    one that arrives meanwhile is delivered as the block ends. Only the main thread runs signal
+    handlers; elsewhere, and where signals cannot be blocked, this does nothing. Never around a
+    wait that only the user can end (opening a FIFO that has no reader): Ctrl-C could not end it.
+
+    Two locks, because the mask is a thread's: the signals are blocked for the main thread, and
+    for the block their Python handlers are replaced by one that only records them, since the
+    system hands a signal sent to the process to any thread that does not block it (a worker
+    pool's threads, pytest-xdist's) and Python then runs its handler in the main thread all
+    the same. A handler not installed from Python cannot be put back, so it is left alone."""
     if not hasattr(signal, "pthread_sigmask") or \
             threading.current_thread() is not threading.main_thread():
         yield
         return
+    held: list[int] = []
+
+    def hold(signum: int, frame: FrameType | None) -> None:
+        held.append(signum)
+
+    previous = {}
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        if signal.getsignal(sig) is not None:
+            previous[sig] = signal.signal(sig, hold)
     old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
     try:
         yield
     finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)  # a blocked one arrives now: `hold`
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+        # Each to the handler it was meant for, once; SIGTERM first, as Ctrl-C's
+        # `KeyboardInterrupt` would leave the other undelivered.
+        for sig in (signal.SIGTERM, signal.SIGINT):
+            if sig in held:
+                signal.raise_signal(sig)

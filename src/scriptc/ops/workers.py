@@ -73,11 +73,12 @@ def map_chunks(work: Callable[[list[Item]], list[Result]], chunks: Sequence[list
 
 def start_worker() -> None:
     """The start of a worker process: Ctrl-C is the parent's to handle. The worker was forked
-    with Ctrl-C and SIGTERM held back (`interrupt.deferred`): SIGTERM, by which the parent
-    stops it, must reach it again."""
+    with Ctrl-C and SIGTERM held back (`interrupt.deferred`: blocked, and their handlers the
+    one that only records them): SIGTERM, by which the parent stops it, must end it again."""
     import signal
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
     if hasattr(signal, "pthread_sigmask"):
         signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT, signal.SIGTERM})
 
