@@ -92,6 +92,16 @@ def test_version_and_help_do_not_load_the_compiler(folder: Path) -> None:
 
 
 @pytest.mark.slow
+def test_a_lint_with_its_cache_built_loads_neither_lark_nor_tempfile(folder: Path) -> None:
+    """The first lint of a folder builds the item parser's cache with lark (whose grammar
+    loader brings tempfile); the next ones need neither. tempfile (with shutil, random, bz2 and
+    lzma) also came with `importlib.resources`, which only reading an explanation needs."""
+    loaded_after(["lint", "a.script"], folder)
+    loaded = loaded_after(["lint", "a.script"], folder)
+    assert not loaded & {"lark", "tempfile"}, loaded & {"lark", "tempfile"}
+
+
+@pytest.mark.slow
 def test_colour_on_demand_loads_rich_only_for_markdown(folder: Path) -> None:
     """Diagnostics are coloured without rich (the renderer writes ANSI codes itself); the
     probe can tell, since an explanation's markdown in colour does import it."""

@@ -26,7 +26,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import cache
-from importlib import resources
 from pathlib import Path
 
 from scriptc.diagnostics.model import Diagnostic, Fix, Label, Severity
@@ -265,6 +264,8 @@ def suggest_codes(query: str, limit: int = 3, *, lint_only: bool = False) -> lis
 def explanation_uri(code: str) -> str | None:
     """A `file:` URI of the explanation of `code`, shipped inside the package: the link an
     editor opens from a diagnostic's code (there is no public page to link to)."""
+    from importlib import resources  # here: it imports tempfile and shutil, which lint needs not
+
     path = resources.files("scriptc.diagnostics") / "explanations" / f"{code}.md"
     try:
         return Path(str(path)).resolve(strict=True).as_uri()
@@ -275,6 +276,8 @@ def explanation_uri(code: str) -> str | None:
 @cache
 def explanation(code: str) -> str:
     """The markdown explanation shipped in `explanations/CODE.md`."""
+    from importlib import resources
+
     try:
         return (resources.files("scriptc.diagnostics") / "explanations" / f"{code}.md").read_text(
             encoding="utf-8"
