@@ -406,7 +406,17 @@ def test_this_needs_a_candidate() -> None:
         asm.place(fail)
         asm.emit("NEXT_BLOCK")
 
-    invalid(one_block(build), "PUSH_THIS needs a candidate in THIS")
+    invalid(one_block(build), "PUSH_THIS needs a candidate in THIS, but no search is running")
+
+    def next_candidate_alone(asm: Assembler) -> None:
+        fail = JumpTarget()
+        asm.emit("COND", fail, 0)
+        asm.emit("NEXT_CANDIDATE")
+        asm.place(fail)
+        asm.emit("NEXT_BLOCK")
+
+    invalid(one_block(next_candidate_alone), "NEXT_CANDIDATE needs a search started by FIND or "
+                                             "a candidate in THIS, but no search is running")
 
 
 def test_search_must_end_before_an_exit() -> None:
@@ -421,7 +431,8 @@ def test_search_must_end_before_an_exit() -> None:
         asm.place(fail)
         asm.emit("NEXT_BLOCK")
 
-    invalid(one_block(build), "NEXT_BLOCK needs no search running")
+    invalid(one_block(build), "NEXT_BLOCK needs no search running, but a search is still "
+                              "running")
 
 
 def test_find_needs_next_candidate_and_its_bind() -> None:
@@ -494,7 +505,9 @@ def test_paths_must_agree() -> None:
         asm.place(fail)
         asm.emit("NEXT_BLOCK")
 
-    invalid(one_block(build), "paths meet")
+    # Each path's state is shown: the values on the stack, whether a search runs.
+    invalid(one_block(build), r"paths meet at code offset 31 with different stacks or searches "
+                              r"\(stack \[\], search none and stack \[v\], search none\)")
 
 
 def test_running_off_the_block() -> None:
@@ -565,12 +578,33 @@ TABLE_REFUSALS = {
         "is neither a text nor a number", False),
     "name that is a number": (
         lambda p: dataclasses.replace(p, name=_number_at(p)), "is a number, not a text", True),
+    "no activity name": (
+        lambda p: dataclasses.replace(p, name=None),
+        "the activity name: constant index None out of range", False),
+    "source name that is a number": (
+        lambda p: dataclasses.replace(p, source=_number_at(p)),
+        "the source name: constant .* is a number, not a text", True),
     "goal id one past the constants": (
         lambda p: _first(p, "goals", id=len(p.constants)),
         "goal 0: constant index .* out of range", True),
     "span ending before its start": (
         lambda p: _first(p, "goals", span=Span(5, 2)),
         r"goal 0: its source span ends \(2\) before it starts \(5\)", True),
+    "action span ending before its start": (
+        lambda p: _first(p, "actions", 1, span=Span(9, 4)),
+        r"action 1: its source span ends \(4\) before it starts \(9\)", True),
+    "block span ending before its start": (
+        lambda p: _first(p, "blocks", 2, span=Span(30, 20)),
+        r"block 2: its source span ends \(20\) before it starts \(30\)", True),
+    "message id that is a number": (
+        lambda p: _first(p, "alfa", id=_number_at(p)),
+        "alfa message 0: constant .* is a number, not a text", True),
+    "message outtopic one past the constants": (
+        lambda p: _first(p, "omega", outtopic=len(p.constants)),
+        "omega message 0: constant index .* out of range", True),
+    "message span ending before its start": (
+        lambda p: _first(p, "omega", span=Span(8, 3)),
+        r"omega message 0: its source span ends \(3\) before it starts \(8\)", True),
     "rulecode past u32": (
         lambda p: _first(p, "alfa", rulecode=2**32), "rulecode 4294967296 is not a u32", False),
     "negative rulecode": (
