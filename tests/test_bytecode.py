@@ -30,6 +30,7 @@ from scriptc.bytecode.code import Assembler, JumpTarget, instructions
 from scriptc.bytecode.opcodes import BY_NAME, MAX_STACK, OPCODES
 from scriptc.bytecode.program import ActionRecord, BlockRecord, CodeSpan, GoalRecord, Num, Program
 from scriptc.emit.codegen import CodegenError, codegen
+from scriptc.language import MUTEXES, RULE_ACTIONS
 from scriptc.ops.build import emit
 from scriptc.source import SourceFile, Span
 
@@ -309,7 +310,7 @@ def test_out_of_range_jump(program: Program) -> None:
     at = code_offset(program, "JUMP_IF_FALSE", 2)
     target = code_offset(program, "PUSH_ATT") + 1
     invalid(patched(program, at + 1, struct.pack("<I", target)),
-            "not the start of an instruction")
+            f"JUMP_IF_FALSE: code offset {target} is not the start of an instruction")
 
 
 def test_backward_jump_only_to_the_search(program: Program) -> None:
@@ -321,11 +322,13 @@ def test_backward_jump_only_to_the_search(program: Program) -> None:
 def test_bad_constant_index(program: Program) -> None:
     at = code_offset(program, "PUSH_CONST")
     invalid(patched(program, at + 1, struct.pack("<I", 70_000)),
-            "constant index 70000 out of range")
+            rf"constant index 70000 out of range \({len(program.constants)} constants\)")
     move = code_offset(program, "MOVE")
     text = program.constants.index("Silence")
     invalid(patched(program, move + 1, struct.pack("<I", text)), "is a text, not a number")
-    invalid(dataclasses.replace(program, name=len(program.constants)), "activity name")
+    n = len(program.constants)
+    invalid(dataclasses.replace(program, name=n),
+            rf"the activity name: constant index {n} out of range \({n} constants\)")
     audio = code_offset(program, "AUDIO")
     number = _number_at(program)
     invalid(patched(program, audio + 1, struct.pack("<I", number)),
@@ -344,6 +347,11 @@ def test_bad_block_operand(program: Program) -> None:
 def test_bad_letters(program: Program) -> None:
     at = code_offset(program, "FIND")
     invalid(patched(program, at + 9, b"X"), "'X' is not a scope letter")
+    # A letter is shown as itself when it is printable ASCII, else as its byte.
+    invalid(patched(program, at + 9, b" "), "FIND: ' ' is not a scope letter")
+    invalid(patched(program, at + 9, b"~"), "FIND: '~' is not a scope letter")
+    invalid(patched(program, at + 9, b"\x7f"), "FIND: 0x7f is not a scope letter")
+    invalid(patched(program, at + 9, b"\x1f"), "FIND: 0x1f is not a scope letter")
     at = code_offset(program, "COMPARE")
     invalid(patched(program, at + 1, b"!"), "not a cmp letter")
     message = dataclasses.replace(program.alfa[0], mutex="Q")
@@ -374,6 +382,40 @@ def test_stack_overflow() -> None:
     invalid(one_block(build), "stack overflow")
 
 
+def test_a_full_stack_is_not_an_overflow() -> None:
+    """MAX_STACK values at once are allowed: one more is the overflow."""
+    def build(asm: Assembler) -> None:
+        fail, after_first, after_second = JumpTarget(), JumpTarget(), JumpTarget()
+        asm.emit("COND", fail, 0)
+        for _ in range(MAX_STACK):
+            asm.emit("PUSH_CONST", 0)
+        asm.emit("COMPARE", ord("="))
+        asm.emit("JUMP_IF_FALSE", after_first)
+        asm.place(after_first)
+        asm.emit("CALL_E", 0, MAX_STACK - 2)
+        asm.emit("JUMP_IF_FALSE", after_second)
+        asm.place(after_second)
+        asm.place(fail)
+        asm.emit("NEXT_BLOCK")
+
+    verify(one_block(build))
+
+
+def test_stack_types_are_shown_in_order() -> None:
+    def build(asm: Assembler) -> None:
+        fail = JumpTarget()
+        asm.emit("COND", fail, 0)
+        asm.emit("PUSH_CONST", 0)
+        asm.emit("PUSH_CONST", 0)
+        asm.emit("COMPARE", ord("="))
+        asm.emit("PUSH_CONST", 0)
+        asm.emit("COMPARE", ord("="))
+        asm.place(fail)
+        asm.emit("NEXT_BLOCK")
+
+    invalid(one_block(build), r"COMPARE pops \[v v\], the stack holds \[b v\]")
+
+
 def test_stack_types() -> None:
     def build(asm: Assembler) -> None:
         fail = JumpTarget()
@@ -395,7 +437,7 @@ def test_values_left_at_an_exit() -> None:
         asm.place(fail)
         asm.emit("NEXT_BLOCK")
 
-    invalid(one_block(build), "NEXT_BLOCK needs an empty stack")
+    invalid(one_block(build), "NEXT_BLOCK needs an empty stack, it holds 1 values")
 
 
 def test_this_needs_a_candidate() -> None:
@@ -510,6 +552,32 @@ def test_paths_must_agree() -> None:
                               r"\(stack \[\], search none and stack \[v\], search none\)")
 
 
+def test_a_jump_to_itself_is_backward() -> None:
+    def build(asm: Assembler) -> None:
+        fail, here = JumpTarget(), JumpTarget()
+        asm.emit("COND", fail, 0)
+        asm.emit("CALL_E", 0, 0)
+        asm.place(here)
+        asm.emit("JUMP_IF_FALSE", here)
+        asm.place(fail)
+        asm.emit("NEXT_BLOCK")
+
+    invalid(one_block(build), "blk0: a backward jump may only return to the "
+                              "NEXT_CANDIDATE of the running search")
+
+
+def test_falling_through_into_the_last_instruction() -> None:
+    """The last instruction may be reached by falling through the one before it (here COND,
+    whose handler is the same instruction)."""
+    def build(asm: Assembler) -> None:
+        fail = JumpTarget()
+        asm.emit("COND", fail, 0)
+        asm.place(fail)
+        asm.emit("NEXT_BLOCK")
+
+    verify(one_block(build))
+
+
 def test_running_off_the_block() -> None:
     def build(asm: Assembler) -> None:
         fail = JumpTarget()
@@ -527,16 +595,29 @@ def test_block_shapes() -> None:
     invalid(one_block(lambda asm: asm.emit("COND", 5, 0), "I"),
             "cannot appear in an instruction block")
     invalid(one_block(lambda asm: asm.emit("NEXT_BLOCK")), "must start with COND")
+    invalid(one_block(lambda asm: asm.emit("ISSUE")), "ISSUE cannot appear in a jump block")
+    # A block of the wrong shape is refused at its last instruction.
+    offsets: list[int] = []
+    wrong_end = one_block(lambda asm: offsets.extend((asm.emit("ISSUE"), asm.emit("ISSUE"))),
+                          "I")
+    with pytest.raises(InvalidError, match="an instruction block must end with ISSUE "
+                                           "NEXT_BLOCK") as info:
+        verify(wrong_end)
+    assert info.value.offset == offsets[1] > 0
     invalid(one_block(lambda asm: (asm.emit("SENSE"), asm.emit("PAYLOAD", 0),
                                    asm.emit("NEXT_BLOCK")), "S"), "must end with SENSE")
 
 
 def test_inconsistent_tables(program: Program) -> None:
     goals = (dataclasses.replace(program.goals[0], actions=5), *program.goals[1:])
-    invalid(dataclasses.replace(program, goals=goals), "the goals own")
+    owned = 5 + sum(goal.actions for goal in program.goals[1:])
+    invalid(dataclasses.replace(program, goals=goals),
+            f"the goals own {owned} actions, but the table holds {len(program.actions)}$")
     blocks = list(program.blocks)
     blocks[2] = dataclasses.replace(blocks[2], code=blocks[1].code)
-    invalid(dataclasses.replace(program, blocks=tuple(blocks)), "not after block")
+    invalid(dataclasses.replace(program, blocks=tuple(blocks)),
+            rf"block 2's code starts at {blocks[1].code}, not after block 1's "
+            rf"\({blocks[1].code}\): blocks are in code order and not empty$")
     blocks = list(program.blocks)
     blocks[0] = dataclasses.replace(blocks[0], kind="Z")
     invalid(dataclasses.replace(program, blocks=tuple(blocks)), "unknown block kind")
@@ -610,7 +691,8 @@ TABLE_REFUSALS = {
     "negative rulecode": (
         lambda p: _first(p, "alfa", rulecode=-1), "rulecode -1 is not a u32", False),
     "unknown rule action": (
-        lambda p: _first(p, "alfa", action="Z"), "unknown rule action 'Z'", True),
+        lambda p: _first(p, "alfa", action="Z"),
+        rf"unknown rule action 'Z' \(expected one of {', '.join(RULE_ACTIONS)}\)$", True),
     "empty rule action": (
         lambda p: _first(p, "alfa", action=""), "unknown rule action ''", False),
     "two rule actions": (
@@ -619,16 +701,17 @@ TABLE_REFUSALS = {
         lambda p: _first(p, "omega", mutex=""), "omega message 0: unknown mutex command ''",
         False),
     "two mutex letters": (
-        lambda p: _first(p, "omega", mutex="LM"), "unknown mutex command 'LM'", False),
+        lambda p: _first(p, "omega", mutex="LM"),
+        rf"unknown mutex command 'LM' \(expected one of {', '.join(MUTEXES)}\)$", False),
     "actions owning more blocks": (
         lambda p: _first(p, "actions", blocks=p.actions[0].blocks + 1),
-        "the actions own .* blocks, but the table holds", True),
+        r"the actions own (\d+) blocks, but the table holds (?!\1)\d+$", True),
     "first block after 0": (
         lambda p: _first(p, "blocks", code=1), "the first block's code starts at 1, not 0",
         True),
     "last block past the code": (
         lambda p: _first(p, "blocks", len(p.blocks) - 1, code=len(p.code)),
-        "past the end of the code", True),
+        r"block \d+'s code starts at (\d+), past the end of the code \(\1 bytes\)$", True),
     "code without blocks": (
         lambda p: dataclasses.replace(p, goals=(), actions=(), blocks=(), spans=()),
         "bytes of code belong to no block", True),
@@ -640,7 +723,11 @@ TABLE_REFUSALS = {
         lambda p: _first(p, "spans", code=1),
         "the first code span starts at code offset 1, not 0", True),
     "code span before the text": (
-        lambda p: _first(p, "spans", 1, start=-1), "code span 1 starts at a negative", False),
+        lambda p: _first(p, "spans", 1, start=-1),
+        r"code span 1 starts at a negative source offset \(-1\)$", False),
+    "code span from 0 ending before it": (
+        lambda p: _first(p, "spans", 1, start=0, end=-1),
+        r"code span 1: its source span ends \(-1\) before it starts \(0\)$", False),
     "code spans out of order": (
         lambda p: _first(p, "spans", 2, code=p.spans[1].code), "code span 2 is out of order",
         True),

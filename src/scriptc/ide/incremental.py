@@ -38,7 +38,6 @@ scan with a whole scan) over random edits.
 from __future__ import annotations
 
 import bisect
-import logging
 from dataclasses import dataclass
 
 from scriptc.analysis.analyze import Analysis, finish
@@ -53,10 +52,7 @@ from scriptc.source import SourceFile, Span
 from scriptc.syntax import parser as _parser
 from scriptc.syntax import scan as _scan
 from scriptc.syntax.larkshim import UnexpectedInput
-from scriptc.syntax.parser import ParsedScript
 from scriptc.syntax.scan import RawItem, Scan
-
-log = logging.getLogger(__name__)
 
 __all__ = ["Analyzer", "IncrementalAnalysis", "Stats"]
 
@@ -76,20 +72,19 @@ class Stats:
 
 class IncrementalAnalysis(Analysis):
     """One analysis of a document: an `Analysis` (source, script, diagnostics, suppressed),
-    plus the scan and the parsed items that editor features read (item boundaries, comments,
-    broken items) and what the analysis reused (`stats`). Offsets are those of `source.text`,
+    plus the scan that editor features read (item boundaries, comments) and what the analysis
+    reused (`stats`). Offsets are those of `source.text`,
     the analysis text; `layout` converts them to offsets of `real`, the document's text (see
     scriptc.ide.pads)."""
 
-    __slots__ = ("layout", "parsed", "real", "scan", "stats")
+    __slots__ = ("layout", "real", "scan", "stats")
 
-    def __init__(self, source: SourceFile, scan: Scan, parsed: ParsedScript,
-                 script: Script | None, diagnostics: list[Diagnostic],
-                 suppressed: list[Diagnostic] | None = None, stats: Stats | None = None,
+    def __init__(self, source: SourceFile, scan: Scan, script: Script | None,
+                 diagnostics: list[Diagnostic], suppressed: list[Diagnostic] | None = None,
+                 stats: Stats | None = None,
                  layout: Layout = IDENTITY, real: str | None = None) -> None:
         super().__init__(source, script, diagnostics, suppressed)
         self.scan = scan
-        self.parsed = parsed
         self.stats = Stats() if stats is None else stats
         self.layout = layout
         self.real = real
@@ -156,8 +151,7 @@ def _fresh(error: BaseException) -> BaseException:
     """A new exception equal to `error` (its class, arguments and attributes), made without
     calling its `__init__` (lark's take arguments that `copy.copy` cannot give back)."""
     clone = type(error).__new__(type(error), *error.args)
-    clone.__dict__.update(error.__dict__)
-    clone.args = error.args
+    clone.__dict__.update(error.__dict__)  # BaseException.__new__ gave it the same args
     return clone
 
 
@@ -392,6 +386,6 @@ class Analyzer:
             stats.items = len(scanned.items)
             diagnostics, suppressed = finish(source, script, lowerer.diagnostics,
                                              functions=self.functions, profile=self.profile)
-        return IncrementalAnalysis(source, scanned, parsed, script, diagnostics, suppressed,
+        return IncrementalAnalysis(source, scanned, script, diagnostics, suppressed,
                                    stats)
 

@@ -1,6 +1,6 @@
 """One analysed version of a document: what every editor feature reads.
 
-A `Snapshot` holds the text, the scan (items and comments), the parsed items, the script
+A `Snapshot` holds the text, the scan (items and comments), the script
 (None when the text holds no item) and the diagnostics, exactly as `scriptc lint` would
 report them, and builds its `index` (what is where) on first use.
 
