@@ -207,7 +207,8 @@ def _spans(program: Program, starts: set[int]) -> None:
         raise InvalidError(f"the first code span starts at code offset {spans[0].code}, not 0")
     previous = -1
     for i, (code, start, end) in enumerate(spans):
-        if code <= previous or code not in starts or not 0 <= start <= end:
+        if (code <= previous or code not in starts
+                or not 0 <= start <= end):
             if start < 0:
                 raise InvalidError(f"code span {i} starts at a negative source offset "
                                    f"({start})")
