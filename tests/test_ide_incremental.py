@@ -4,6 +4,7 @@ document's text (`analyze_script`), whatever the edits."""
 
 from __future__ import annotations
 
+import dataclasses
 import random
 import sys
 from pathlib import Path
@@ -14,7 +15,7 @@ from harness import CASES
 from scriptc.analysis.analyze import analyze_script
 from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit
 from scriptc.ide.document import Document, canonical
-from scriptc.ide.incremental import INITIAL_PAD, MAX_PAD, Analyzer
+from scriptc.ide.incremental import INITIAL_PAD, MAX_PAD, Analyzer, Stats
 from scriptc.ide.pads import Layout
 from scriptc.ir import nodes
 from scriptc.ir.shift import _MAPPERS, _SHIFTERS, map_spans, shift
@@ -165,6 +166,76 @@ def test_typing_through_a_large_script() -> None:
         assert_same_as_lint(doc)
 
 
+STATS_SCRIPT = """[demo]
+[alfa:0, kick, "", "", C, U]
+[goal:g]
+  [action]
+    [b##blk_inst: MV("0, 0, 0, 1000, 1000")]
+    [b##blk_inst: MV("0, 0, 0, 1000, 1000")]
+"""
+
+
+def test_stats_count_what_each_analysis_did() -> None:
+    """Six items, two of them the same text: five parses; the two blocks and the rule message
+    are lowered. Again: everything reused. A comment before the goal moves the blocks: their
+    lowerings are shifted, the rule message's reused."""
+    analyzer = Analyzer()
+    first = analyzer.analyze(STATS_SCRIPT)
+    assert dataclasses.asdict(first.stats) == {
+        "items": 6, "parsed": 5, "reused_parses": 1, "lowered": 3, "reused_lowerings": 0,
+        "shifted_lowerings": 0, "scanned": len(STATS_SCRIPT)}
+    again = analyzer.analyze(STATS_SCRIPT)
+    assert dataclasses.asdict(again.stats) == {
+        "items": 6, "parsed": 0, "reused_parses": 6, "lowered": 0, "reused_lowerings": 3,
+        "shifted_lowerings": 0, "scanned": len(STATS_SCRIPT)}
+    moved = analyzer.analyze(STATS_SCRIPT.replace("[goal:g]", "% a comment %\n[goal:g]"))
+    assert dataclasses.asdict(moved.stats) == {
+        "items": 6, "parsed": 0, "reused_parses": 6, "lowered": 0, "reused_lowerings": 1,
+        "shifted_lowerings": 2, "scanned": len(STATS_SCRIPT) + len("% a comment %\n")}
+    assert dataclasses.asdict(Stats()) == dict.fromkeys(dataclasses.asdict(first.stats), 0)
+
+
+def test_a_keystroke_scans_only_its_item() -> None:
+    """The scanner reads the text (then the text with its pads) when a document opens, only
+    the item after a keystroke inside it (up to its `]`), and the whole analysis text after
+    an edit between items, which keeps the pads as they were."""
+    text = ('[demo]\n[goal:g]\n  [action]\n    [b##blk_inst: MV("0, 0, 0, 1000, 1000")]\n'
+            '    [b##blk_inst: MV("0, 0, 0, 2000, 1000")]\n')
+    doc = Document("x", text)
+    opened = doc.snapshot()
+    assert opened.stats.scanned == len(text) + len(text) + 5 * INITIAL_PAD
+    at = doc.text.index("2000")
+    doc.replace(at, at, "1")
+    typed = doc.snapshot()
+    item = typed.items[-1]
+    assert typed.text[item.span.start:item.span.end] == '[b##blk_inst: MV("0, 0, 0, 12000, 1000")]'
+    assert typed.stats.scanned == item.span.end - item.span.start
+    at = doc.text.index(")]", at) + 1  # right before the `]`
+    doc.replace(at, at, " ")
+    assert doc.snapshot().stats.scanned == item.span.end - item.span.start + 1
+    assert_same_as_lint(doc)
+    doc.replace(doc.text.index("[goal"), doc.text.index("[goal"), "\n")
+    between = doc.snapshot()
+    assert between.stats.scanned == len(between.text)
+    assert [n for _p, n in between.layout.pads] == [INITIAL_PAD] * 4 + [INITIAL_PAD - 2]
+    assert_same_as_lint(doc)
+
+
+def test_cached_syntax_errors_hold_no_frames() -> None:
+    """A cached syntax error keeps no traceback (its frames would hold the analysis in a
+    reference cycle until a full collection); the error raised from the cache is a copy."""
+    analyzer = Analyzer()
+    text = "[demo]\n[goal:g]\n[action]\n[b##blk_inst: MV(]\n"
+    result = analyzer.analyze(text)
+    assert result.diagnostics == analyze_script(SourceFile("", text)).diagnostics
+    errors = [entry.error for entry in analyzer._current.values() if entry.error is not None]
+    assert len(errors) == 1
+    assert (errors[0].__traceback__, errors[0].__context__, errors[0].__cause__) == (
+        None, None, None)
+    again = analyzer.analyze(text)
+    assert again.diagnostics == result.diagnostics and again.stats.parsed == 0
+
+
 def test_set_text_starts_again() -> None:
     doc = Document("x", SCRIPTS[1])
     doc.snapshot()
@@ -193,6 +264,13 @@ def test_edits_that_cannot_be_followed_start_again() -> None:
     result = analyzer.analyze(first, edits=[(at + 3, at, "")])
     assert_lint_of(result, first)
     assert {n for _p, n in result.layout.pads} == {INITIAL_PAD}
+    # An edit that ends before it starts, sent with a text as long as following it would
+    # make (three more characters: those it would repeat).
+    inside = first.index("[") + 2
+    longer = first + "   "
+    result = analyzer.analyze(longer, edits=[(inside + 3, inside, "")])
+    assert_lint_of(result, longer)
+    assert result.source.text.replace(" ", "") == longer.replace(" ", "")
 
 
 def test_a_large_deletion_inside_an_item_starts_again() -> None:

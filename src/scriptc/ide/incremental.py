@@ -60,7 +60,8 @@ __all__ = ["Analyzer", "IncrementalAnalysis", "Stats"]
 @dataclass
 class Stats:
     """What the last analysis did: items parsed by lark, parses reused from the cache, items
-    lowered, lowerings reused as they were and lowerings moved by a shift."""
+    lowered, lowerings reused as they were and lowerings moved by a shift; and how many
+    characters the scanner read (one item's after a keystroke inside it, else the text)."""
 
     items: int = 0
     parsed: int = 0
@@ -68,6 +69,7 @@ class Stats:
     lowered: int = 0
     reused_lowerings: int = 0
     shifted_lowerings: int = 0
+    scanned: int = 0
 
 
 class IncrementalAnalysis(Analysis):
@@ -226,8 +228,13 @@ class Analyzer:
         self._scanned: Scan | None = None  # the last scan (analysis offsets)
         # (index, item, new end) after an edit inside one item
         self._rescan: tuple[int, RawItem, int] | None = None
+        self._chars_scanned = 0  # by the analysis under way
 
     # -- the analysis text --------------------------------------------------------------------
+
+    def _scan(self, text: str) -> Scan:
+        self._chars_scanned += len(text)
+        return _scan.scan(text)
 
     def _layout(self) -> Layout:
         return Layout(tuple(sorted(self._pads.items()))) if self._pads else IDENTITY
@@ -247,8 +254,8 @@ class Analyzer:
             b = layout.to_analysis(end, after=end == start) if end != start else a
             if b < a:
                 return False
-            if any(p < b and a < p + length for p, length in pads.items()):
-                return False  # the edit reaches into a pad
+            # An edit over a pad (its start and end are never inside one) is refused by the
+            # length check at the end: the pad it took out is still counted.
             delta = len(new) - (b - a)
             found = self._item_around(a, b) if n == 0 else None
             if found is not None:
@@ -289,8 +296,8 @@ class Analyzer:
                 hi = mid
         if lo == 0:
             return None
-        item = items[lo - 1]
-        if item.closed and not item.broken and item.span.start < a and b <= item.span.end - 1:
+        item = items[lo - 1]  # the last item that starts before `a`
+        if item.closed and not item.broken and b <= item.span.end - 1:
             return lo - 1, item
         return None
 
@@ -305,7 +312,7 @@ class Analyzer:
             return None
         index, item, end = hint
         start = item.span.start
-        part = _scan.scan(self._text[start:end])
+        part = self._scan(self._text[start:end])
         if (part.diagnostics or len(part.items) != 1 or not part.items[0].closed
                 or part.items[0].broken or part.items[0].span != Span(0, end - start)):
             return None
@@ -329,7 +336,7 @@ class Analyzer:
     def _restart(self, text: str) -> Scan:
         """Make the analysis text from the document's text: with a pad after every closed
         item when `slack` is on. Returns the scan of the new analysis text."""
-        scanned = _scan.scan(text)
+        scanned = self._scan(text)
         if not self.slack or not scanned.items:
             self._text, self._pads = text, {}
             return scanned
@@ -348,13 +355,14 @@ class Analyzer:
                 last = end
         pieces.append(text[last:])
         self._text, self._pads = "".join(pieces), pads
-        return _scan.scan(self._text)
+        return self._scan(self._text)
 
     def analyze(self, text: str, path: str = "", edits=None) -> IncrementalAnalysis:
         """Analyse the document's `text`; `edits` are the changes since the last call (None:
         unknown, or a new document), which let the analysis keep its pads."""
+        self._chars_scanned = 0
         if self._follow(text, edits):
-            scanned = self._scan_edited_item() or _scan.scan(self._text)
+            scanned = self._scan_edited_item() or self._scan(self._text)
             if not self._pads_hold(scanned):
                 scanned = self._restart(text)
         else:
@@ -384,6 +392,7 @@ class Analyzer:
             self._spare, self._previous = self._previous, {}
             self._by_tree = {}
             stats.items = len(scanned.items)
+            stats.scanned = self._chars_scanned
             diagnostics, suppressed = finish(source, script, lowerer.diagnostics,
                                              functions=self.functions, profile=self.profile)
         return IncrementalAnalysis(source, scanned, script, diagnostics, suppressed,
