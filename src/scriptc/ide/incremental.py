@@ -205,6 +205,11 @@ SLACK = 64
 MAX_PAD = 4096
 
 
+# After an edit inside one item that moved nothing else: the item's index in the last scan,
+# the item, and its end now.
+_Rescan = tuple[int, RawItem, int]
+
+
 class Analyzer:
     """The analysis of one document as it changes. `analyze(text, edits=...)` gives the same
     result as `scriptc.analysis.analyze.analyze_script` for that text (in the offsets of the
@@ -225,9 +230,7 @@ class Analyzer:
         self._real: str | None = None  # the document's text at the last analysis
         self._text = ""  # the analysis text
         self._pads: dict[int, int] = {}  # analysis offset -> length
-        self._scanned: Scan | None = None  # the last scan (analysis offsets)
-        # (index, item, new end) after an edit inside one item
-        self._rescan: tuple[int, RawItem, int] | None = None
+        self._scanned = Scan([], [], [])  # the last scan (analysis offsets)
         self._chars_scanned = 0  # by the analysis under way
 
     # -- the analysis text --------------------------------------------------------------------
@@ -239,21 +242,23 @@ class Analyzer:
     def _layout(self) -> Layout:
         return Layout(tuple(sorted(self._pads.items()))) if self._pads else IDENTITY
 
-    def _follow(self, text: str, edits) -> bool:
+    def _follow(self, text: str, edits) -> tuple[bool, _Rescan | None]:
         """Apply the document's edits (`(start, end, new_text)` in document offsets, each on
         the text the previous one left) to the analysis text, keeping the pads. False when
-        the edits cannot be followed (the analysis text then starts again from `text`)."""
+        the edits cannot be followed (the analysis text then starts again from `text`);
+        when they can, and were one edit inside one item that moved nothing else, what
+        `_scan_edited_item` needs."""
         if self._real is None or edits is None:
-            return False
+            return False, None
         analysis = self._text
         pads = dict(self._pads)
-        self._rescan = None
+        rescan = None
         for n, (start, end, new) in enumerate(edits):
             layout = Layout(tuple(sorted(pads.items()))) if pads else IDENTITY
             a = layout.to_analysis(start, after=True)
             b = layout.to_analysis(end, after=end == start) if end != start else a
             if b < a:
-                return False
+                return False, None
             # An edit over a pad (its start and end are never inside one) is refused by the
             # length check at the end: the pad it took out is still counted.
             delta = len(new) - (b - a)
@@ -266,7 +271,7 @@ class Analyzer:
                 if keep < 0:
                     keep = SLACK
                 if keep > MAX_PAD:
-                    return False
+                    return False, None
                 analysis = (analysis[:a] + new + analysis[b:x_end] + " " * keep
                             + analysis[x_end + had:])
                 moved = delta + keep - had
@@ -274,19 +279,19 @@ class Analyzer:
                 if keep:
                     pads[x_end + delta] = keep
                 if moved == 0 and len(edits) == 1:
-                    self._rescan = (index, item, x_end + delta)
+                    rescan = (index, item, x_end + delta)
             else:
                 analysis = analysis[:a] + new + analysis[b:]
                 pads = {(p + delta if p >= b else p): length for p, length in pads.items()}
         if len(analysis) - sum(pads.values()) != len(text):
-            return False
+            return False, None
         self._text, self._pads = analysis, pads
-        return True
+        return True, rescan
 
     def _item_around(self, a: int, b: int) -> tuple[int, RawItem] | None:
         """The closed item of the last scan holding `[a, b]` strictly inside its brackets,
         with its index."""
-        items = self._scanned.items if self._scanned is not None else []
+        items = self._scanned.items
         lo, hi = 0, len(items)
         while lo < hi:
             mid = (lo + hi) // 2
@@ -301,16 +306,13 @@ class Analyzer:
             return lo - 1, item
         return None
 
-    def _scan_edited_item(self) -> Scan | None:
+    def _scan_edited_item(self, rescan: _Rescan) -> Scan | None:
         """The scan of the analysis text after an edit inside one item that moved nothing
         else: the old scan with that item scanned again, when the item is still one closed
         item with nothing to report (otherwise None: scan everything). The scanner carries
         no state from one item to the next, so this is what scanning the whole text gives."""
-        hint, self._rescan = self._rescan, None
         old = self._scanned
-        if hint is None or old is None:
-            return None
-        index, item, end = hint
+        index, item, end = rescan
         start = item.span.start
         part = self._scan(self._text[start:end])
         if (part.diagnostics or len(part.items) != 1 or not part.items[0].closed
@@ -361,8 +363,10 @@ class Analyzer:
         """Analyse the document's `text`; `edits` are the changes since the last call (None:
         unknown, or a new document), which let the analysis keep its pads."""
         self._chars_scanned = 0
-        if self._follow(text, edits):
-            scanned = self._scan_edited_item() or self._scan(self._text)
+        followed, rescan = self._follow(text, edits)
+        if followed:
+            scanned = ((rescan and self._scan_edited_item(rescan))
+                       or self._scan(self._text))
             if not self._pads_hold(scanned):
                 scanned = self._restart(text)
         else:
