@@ -82,12 +82,11 @@ class IncrementalAnalysis(Analysis):
     __slots__ = ("layout", "real", "scan", "stats")
 
     def __init__(self, source: SourceFile, scan: Scan, script: Script | None,
-                 diagnostics: list[Diagnostic], suppressed: list[Diagnostic] | None = None,
-                 stats: Stats | None = None,
-                 layout: Layout = IDENTITY, real: str | None = None) -> None:
+                 diagnostics: list[Diagnostic], suppressed: list[Diagnostic], stats: Stats,
+                 layout: Layout, real: str) -> None:
         super().__init__(source, script, diagnostics, suppressed)
         self.scan = scan
-        self.stats = Stats() if stats is None else stats
+        self.stats = stats
         self.layout = layout
         self.real = real
 
@@ -328,8 +327,6 @@ class Analyzer:
 
     def _pads_hold(self, scanned: Scan) -> bool:
         """Every pad still sits right after the `]` of a closed item."""
-        if not self._pads:
-            return True
         ends = {item.span.end for item in scanned.items if item.closed}
         return all(p in ends for p in self._pads)
 
@@ -373,18 +370,16 @@ class Analyzer:
             scanned = self._restart(text)
         self._real = text
         self._scanned = scanned
-        result = self._analyze(self._text, scanned, path)
-        result.layout = self._layout()
-        result.real = text
+        result = self._analyze(self._text, scanned, path, self._layout(), text)
         return result
 
-    def _analyze(self, text: str, scanned: Scan, path: str) -> IncrementalAnalysis:
+    def _analyze(self, text: str, scanned: Scan, path: str, layout: Layout,
+                 real: str) -> IncrementalAnalysis:
         source = SourceFile(path, text)
         self._stats = stats = Stats()
         # Entries not used by this analysis are kept for the next one only (an undo, a
         # keystroke typed and deleted), then dropped: memory follows the document.
         self._previous, self._current = self._current, {}
-        self._by_tree = {}
 
         with gc_paused():
             parsed = _parser.parse_items(text, scanned=scanned, parser=_CachingParser(self))
@@ -394,11 +389,11 @@ class Analyzer:
             for entry in self._current.values():
                 entry.lowered, entry.next_lowered = entry.next_lowered, {}
             self._spare, self._previous = self._previous, {}
-            self._by_tree = {}
+            self._by_tree = {}  # the trees' ids are looked up during the lowering only
             stats.items = len(scanned.items)
             stats.scanned = self._chars_scanned
             diagnostics, suppressed = finish(source, script, lowerer.diagnostics,
                                              functions=self.functions, profile=self.profile)
         return IncrementalAnalysis(source, scanned, script, diagnostics, suppressed,
-                                   stats)
+                                   stats, layout, real)
 

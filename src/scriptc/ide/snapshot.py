@@ -56,7 +56,7 @@ class Snapshot:
     @cached_property
     def real_source(self) -> SourceFile:
         """The document's text (the analysis text without its pads)."""
-        if self.result.real is None or self.result.real == self.text:
+        if self.result.real == self.text:
             return self.result.source
         return SourceFile(self.result.source.path, self.result.real)
 
