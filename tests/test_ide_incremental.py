@@ -221,6 +221,18 @@ def test_a_keystroke_scans_only_its_item() -> None:
     assert_same_as_lint(doc)
 
 
+def test_the_cache_keeps_one_version_back() -> None:
+    """An item's old text stays cached one analysis longer (an undo parses nothing), then
+    goes: memory follows the document."""
+    versions = [STATS_SCRIPT.replace("1000, 1000", f"{n}, 1000", 1) for n in (1500, 2000, 3000)]
+    analyzer = Analyzer()
+    for text in versions:
+        analyzer.analyze(text)
+    assert analyzer.analyze(versions[1]).stats.parsed == 0  # one back: still cached
+    analyzer.analyze(versions[2])
+    assert analyzer.analyze(versions[0]).stats.parsed == 1  # two back: parsed again
+
+
 def test_cached_syntax_errors_hold_no_frames() -> None:
     """A cached syntax error keeps no traceback (its frames would hold the analysis in a
     reference cycle until a full collection); the error raised from the cache is a copy."""
