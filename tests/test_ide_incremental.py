@@ -15,7 +15,7 @@ from harness import CASES
 from scriptc.analysis.analyze import analyze_script
 from scriptc.diagnostics.model import Diagnostic, Fix, Label, TextEdit
 from scriptc.ide.document import Document, canonical
-from scriptc.ide.incremental import INITIAL_PAD, MAX_PAD, Analyzer, Stats
+from scriptc.ide.incremental import INITIAL_PAD, MAX_PAD, SLACK, Analyzer, Stats
 from scriptc.ide.pads import Layout
 from scriptc.ir import nodes
 from scriptc.ir.shift import _MAPPERS, _SHIFTERS, map_spans, shift
@@ -219,6 +219,77 @@ def test_a_keystroke_scans_only_its_item() -> None:
     assert between.stats.scanned == len(between.text)
     assert [n for _p, n in between.layout.pads] == [INITIAL_PAD] * 4 + [INITIAL_PAD - 2]
     assert_same_as_lint(doc)
+
+
+def pads_by_item(doc: Document) -> list[tuple[int, int]]:
+    """The pads of the document's analysis: (the document offset of the item's end, length)."""
+    layout = doc.snapshot().layout
+    return [(layout.to_real(p), n) for p, n in layout.pads]
+
+
+def item_ends(text: str) -> list[int]:
+    return [i + 1 for i, c in enumerate(text) if c == "]"]
+
+
+def test_pads_follow_each_kind_of_edit() -> None:
+    """Where each pad is and how long, after each kind of edit (scriptc.ide.pads): typing
+    inside an item takes from its pad, or gives it SLACK when it runs out (the items after it
+    move); a deletion inside an item gives to its pad; typing between items, or right after
+    an item's `]`, moves the pads after it and changes none. The analysis never starts
+    again, and the scanner reads one item, or the whole analysis text once."""
+    text = ('[demo]\n[goal:g]\n  [action]\n    [b##blk_inst: MV("0, 0, 0, 1000, 1000")]\n'
+            '    [b##blk_inst: MV("0, 0, 0, 2000, 1000")]% a comment right after it %\n')
+    doc = Document("x", text)
+    assert pads_by_item(doc) == [(end, INITIAL_PAD) for end in item_ends(text)]
+    lengths = [INITIAL_PAD] * 5  # 0: no pad
+
+    def check(scanned: int | None = None) -> None:
+        assert pads_by_item(doc) == [
+            (end, n) for end, n in zip(item_ends(doc.text), lengths, strict=True) if n]
+        snapshot = doc.snapshot()
+        whole = len(snapshot.text)
+        assert snapshot.stats.scanned == (whole if scanned is None else scanned)
+        assert_same_as_lint(doc)
+
+    at = doc.text.index("1000")  # 20 characters inside the fourth item: its pad runs out
+    doc.replace(at, at, "1" * 20)
+    lengths[3] = SLACK
+    check()
+    at = doc.text.index("[goal")  # between items
+    doc.replace(at, at, "% note %\n")
+    check()
+    at = doc.text.index("2000")  # a deletion inside the fifth item
+    doc.replace(at, at + 3, "")
+    lengths[4] += 3
+    check(scanned=len('[b##blk_inst: MV("0, 0, 0, 0, 1000")]'))
+    doc.replace(1, 5, "dumb")  # a replacement as long as what it replaces
+    check(scanned=len("[dumb]"))
+    end = item_ends(doc.text)[3]  # typing right after an item's `]` goes after its pad
+    doc.replace(end, end, "\n")
+    check()
+    end = item_ends(doc.text)[1]  # an edit that ends at an item's end stops before its pad
+    doc.replace(end - 2, end, "gg]")
+    check()
+    # Typing as much as the pad holds into the fifth item leaves it none; a deletion then
+    # gives it one again (the comment right after the item stays where it is); typing
+    # more than that gives it SLACK.
+    at = doc.text.index("0, 1000\")]% a")
+    doc.replace(at, at, "1" * lengths[4])
+    lengths[4] = 0
+    check(scanned=len('[b##blk_inst: MV("0, 0, 0, 11111111111111111110, 1000")]'))
+    doc.replace(at, at + 1, "")
+    lengths[4] = 1
+    check(scanned=len('[b##blk_inst: MV("0, 0, 0, 1111111111111111110, 1000")]'))
+    doc.replace(at, at, "22")
+    lengths[4] = SLACK
+    check()
+    # Two edits inside one item before one analysis: the first takes from the pad, the
+    # second is followed as an edit anywhere (it moves the pads after it).
+    at = doc.text.index("0, 0, 0, 1")
+    doc.replace(at, at, "1")
+    doc.replace(at, at, "2")
+    lengths[3] -= 1
+    check()
 
 
 def test_the_cache_keeps_one_version_back() -> None:
