@@ -366,7 +366,7 @@ def test_stack_underflow() -> None:
         asm.place(fail)
         asm.emit("NEXT_BLOCK")
 
-    invalid(one_block(build), "stack underflow")
+    invalid(one_block(build), "stack underflow: COMPARE pops 2 values, the stack holds 0 ")
 
 
 def test_stack_overflow() -> None:
@@ -623,7 +623,9 @@ def test_inconsistent_tables(program: Program) -> None:
     invalid(dataclasses.replace(program, blocks=tuple(blocks)), "unknown block kind")
     spans = list(program.spans)
     spans[1] = CodeSpan(spans[1].code + 1, spans[1].start, spans[1].end)
-    invalid(dataclasses.replace(program, spans=tuple(spans)), "not the start of an instruction")
+    invalid(dataclasses.replace(program, spans=tuple(spans)),
+            f"code span 1 points at code offset {spans[1].code}, which is not the start of an "
+            "instruction")
     invalid(dataclasses.replace(program, lines=(0, 5, 5)), "line table")
 
 
@@ -631,8 +633,10 @@ def test_number_constants_must_be_finite_and_match_their_text() -> None:
     def end(asm: Assembler) -> None:
         asm.emit("END")
 
-    invalid(one_block(end, "T", constants=("a", Num(2.0, "1"))), "does not match its text")
-    invalid(one_block(end, "T", constants=("a", Num(float("inf"), "inf"))), "not a finite")
+    invalid(one_block(end, "T", constants=("a", Num(2.0, "1"))),
+            "constant 1: the number 2.0 does not match its text '1'")
+    invalid(one_block(end, "T", constants=("a", Num(float("inf"), "inf"))),
+            "constant 1 is not a finite number")
 
 
 def _first(program: Program, table: str, at: int = 0, **changes) -> Program:
@@ -656,7 +660,7 @@ TABLE_REFUSALS = {
         r"the text 'one' of a number constant is not a number", True),
     "constant of no kind": (
         lambda p: dataclasses.replace(p, constants=(*p.constants, 3)),
-        "is neither a text nor a number", False),
+        r"constant \d+ is neither a text nor a number", False),
     "name that is a number": (
         lambda p: dataclasses.replace(p, name=_number_at(p)), "is a number, not a text", True),
     "no activity name": (
@@ -729,7 +733,8 @@ TABLE_REFUSALS = {
         lambda p: _first(p, "spans", 1, start=0, end=-1),
         r"code span 1: its source span ends \(-1\) before it starts \(0\)$", False),
     "code spans out of order": (
-        lambda p: _first(p, "spans", 2, code=p.spans[1].code), "code span 2 is out of order",
+        lambda p: _first(p, "spans", 2, code=p.spans[1].code),
+        r"code span 2 is out of order \(code offset \d+\)$",
         True),
     "code span ending before its start": (
         lambda p: _first(p, "spans", 1, start=10, end=5),
