@@ -657,7 +657,7 @@ def _number_at(program: Program) -> int:
 TABLE_REFUSALS = {
     "number written as no number": (
         lambda p: dataclasses.replace(p, constants=(*p.constants, Num(1.0, "one"))),
-        r"the text 'one' of a number constant is not a number", True),
+        r"constant \d+: the text 'one' of a number constant is not a number$", True),
     "constant of no kind": (
         lambda p: dataclasses.replace(p, constants=(*p.constants, 3)),
         r"constant \d+ is neither a text nor a number", False),
