@@ -325,7 +325,8 @@ def test_bad_constant_index(program: Program) -> None:
             rf"constant index 70000 out of range \({len(program.constants)} constants\)")
     move = code_offset(program, "MOVE")
     text = program.constants.index("Silence")
-    invalid(patched(program, move + 1, struct.pack("<I", text)), "is a text, not a number")
+    invalid(patched(program, move + 1, struct.pack("<I", text)),
+            f"MOVE: constant {text} is a text, not a number")
     n = len(program.constants)
     invalid(dataclasses.replace(program, name=n),
             rf"the activity name: constant index {n} out of range \({n} constants\)")
@@ -341,12 +342,13 @@ def test_unknown_opcode(program: Program) -> None:
 
 def test_bad_block_operand(program: Program) -> None:
     at = code_offset(program, "GOTO")
-    invalid(patched(program, at + 1, struct.pack("<I", 99)), "block 99 out of range")
+    invalid(patched(program, at + 1, struct.pack("<I", 99)),
+            rf"GOTO: block 99 out of range \({len(program.blocks)} blocks\)")
 
 
 def test_bad_letters(program: Program) -> None:
     at = code_offset(program, "FIND")
-    invalid(patched(program, at + 9, b"X"), "'X' is not a scope letter")
+    invalid(patched(program, at + 9, b"X"), r"'X' is not a scope letter \([A-Z]+\) ")
     # A letter is shown as itself when it is printable ASCII, else as its byte.
     invalid(patched(program, at + 9, b" "), "FIND: ' ' is not a scope letter")
     invalid(patched(program, at + 9, b"~"), "FIND: '~' is not a scope letter")
@@ -379,7 +381,7 @@ def test_stack_overflow() -> None:
         asm.place(fail)
         asm.emit("NEXT_BLOCK")
 
-    invalid(one_block(build), "stack overflow")
+    invalid(one_block(build), f"stack overflow: more than {MAX_STACK} values ")
 
 
 def test_a_full_stack_is_not_an_overflow() -> None:
@@ -498,7 +500,9 @@ def test_find_needs_next_candidate_and_its_bind() -> None:
         asm.place(fail)
         asm.emit("NEXT_BLOCK")
 
-    invalid(one_block(wrong_bind), "not a BIND after it")
+    # The handler after the BIND: COND (9 bytes), FIND (14), NEXT_CANDIDATE and BIND (1 each).
+    invalid(one_block(wrong_bind), "FIND names code offset 25 as its BIND, which is not a BIND "
+                                   "after it")
 
 
 def test_searches_hold_tests_only() -> None:
@@ -783,6 +787,11 @@ def test_every_refusal_of_the_code() -> None:
                         blocks=(BlockRecord("J", None, 0, Span(0, 0)),),
                         code=bytes([cond.code, 0]))
     invalid(truncated, f"COND needs {cond.size} bytes, the block ends after 2")
+    push = BY_NAME["PUSH_CONST"]
+    after_cond = dataclasses.replace(
+        truncated, code=bytes([cond.code, cond.size, 0, 0, 0, 0, 0, 0, 0, push.code, 0]))
+    assert cond.size == 9
+    invalid(after_cond, f"PUSH_CONST needs {push.size} bytes, the block ends after 2")
 
     def two_conds(asm: Assembler) -> None:
         fail = JumpTarget()
