@@ -791,7 +791,7 @@ def test_every_refusal_of_the_code() -> None:
     after_cond = dataclasses.replace(
         truncated, code=bytes([cond.code, cond.size, 0, 0, 0, 0, 0, 0, 0, push.code, 0]))
     assert cond.size == 9
-    invalid(after_cond, f"PUSH_CONST needs {push.size} bytes, the block ends after 2")
+    invalid(after_cond, f"PUSH_CONST needs {push.size} bytes, the block ends after 2 ")
 
     def two_conds(asm: Assembler) -> None:
         fail = JumpTarget()
