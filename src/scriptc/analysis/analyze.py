@@ -13,14 +13,17 @@ the cache and the fixes; `api.Built`: the JSON and bytecode;
 from __future__ import annotations
 
 import os
+from typing import TYPE_CHECKING
 
 from scriptc.analysis.read import decode_source, read_bytes
 from scriptc.diagnostics.model import Diagnostic, Severity, has_errors
 from scriptc.gcpause import gc_paused
 from scriptc.ir.builtins import STANDARD, FunctionRegistry
-from scriptc.ir.nodes import Script
-from scriptc.robot.profile import Profile
 from scriptc.source import SourceFile, SourceKind
+
+if TYPE_CHECKING:  # types only: a lint whose results are cached never needs the IR's nodes
+    from scriptc.ir.nodes import Script
+    from scriptc.robot.profile import Profile
 
 __all__ = ["Analysis", "analyze_bytes", "analyze_file", "analyze_json", "analyze_script",
            "analyze_source", "finish"]
