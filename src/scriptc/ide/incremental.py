@@ -209,6 +209,10 @@ MAX_PAD = 4096
 _Rescan = tuple[int, RawItem, int]
 
 
+def _layout(pads: dict[int, int]) -> Layout:
+    return Layout(tuple(sorted(pads.items()))) if pads else IDENTITY
+
+
 class Analyzer:
     """The analysis of one document as it changes. `analyze(text, edits=...)` gives the same
     result as `scriptc.analysis.analyze.analyze_script` for that text (in the offsets of the
@@ -225,21 +229,18 @@ class Analyzer:
         # The items the last analysis dropped: an undo brings them back.
         self._spare: dict[str, _Entry] = {}
         self._by_tree: dict[int, _Entry] = {}
-        self._stats = Stats()
+        self._stats = Stats()  # of the analysis under way, or the last one
         self._real: str | None = None  # the document's text at the last analysis
         self._text = ""  # the analysis text
         self._pads: dict[int, int] = {}  # analysis offset -> length
         self._scanned = Scan([], [], [])  # the last scan (analysis offsets)
-        self._chars_scanned = 0  # by the analysis under way
 
     # -- the analysis text --------------------------------------------------------------------
 
     def _scan(self, text: str) -> Scan:
-        self._chars_scanned += len(text)
+        self._stats.scanned += len(text)
         return _scan.scan(text)
 
-    def _layout(self) -> Layout:
-        return Layout(tuple(sorted(self._pads.items()))) if self._pads else IDENTITY
 
     def _follow(self, text: str, edits) -> tuple[bool, _Rescan | None]:
         """Apply the document's edits (`(start, end, new_text)` in document offsets, each on
@@ -253,7 +254,7 @@ class Analyzer:
         pads = dict(self._pads)
         rescan = None
         for n, (start, end, new) in enumerate(edits):
-            layout = Layout(tuple(sorted(pads.items()))) if pads else IDENTITY
+            layout = _layout(pads)
             a = layout.to_analysis(start, after=True)
             b = layout.to_analysis(end, after=end == start) if end != start else a
             if b < a:
@@ -291,13 +292,7 @@ class Analyzer:
         """The closed item of the last scan holding `[a, b]` strictly inside its brackets,
         with its index."""
         items = self._scanned.items
-        lo, hi = 0, len(items)
-        while lo < hi:
-            mid = (lo + hi) // 2
-            if items[mid].span.start < a:
-                lo = mid + 1
-            else:
-                hi = mid
+        lo = bisect.bisect_left(items, a, key=lambda item: item.span.start)
         if lo == 0:
             return None
         item = items[lo - 1]  # the last item that starts before `a`
@@ -359,7 +354,7 @@ class Analyzer:
     def analyze(self, text: str, path: str = "", edits=None) -> IncrementalAnalysis:
         """Analyse the document's `text`; `edits` are the changes since the last call (None:
         unknown, or a new document), which let the analysis keep its pads."""
-        self._chars_scanned = 0
+        self._stats = Stats()
         followed, rescan = self._follow(text, edits)
         if followed:
             scanned = ((rescan and self._scan_edited_item(rescan))
@@ -370,13 +365,12 @@ class Analyzer:
             scanned = self._restart(text)
         self._real = text
         self._scanned = scanned
-        result = self._analyze(self._text, scanned, path, self._layout(), text)
-        return result
+        return self._analyze(self._text, scanned, path, _layout(self._pads), text)
 
     def _analyze(self, text: str, scanned: Scan, path: str, layout: Layout,
                  real: str) -> IncrementalAnalysis:
         source = SourceFile(path, text)
-        self._stats = stats = Stats()
+        stats = self._stats
         # Entries not used by this analysis are kept for the next one only (an undo, a
         # keystroke typed and deleted), then dropped: memory follows the document.
         self._previous, self._current = self._current, {}
@@ -391,7 +385,6 @@ class Analyzer:
             self._spare, self._previous = self._previous, {}
             self._by_tree = {}  # the trees' ids are looked up during the lowering only
             stats.items = len(scanned.items)
-            stats.scanned = self._chars_scanned
             diagnostics, suppressed = finish(source, script, lowerer.diagnostics,
                                              functions=self.functions, profile=self.profile)
         return IncrementalAnalysis(source, scanned, script, diagnostics, suppressed,
