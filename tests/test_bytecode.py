@@ -81,6 +81,19 @@ def one_block(build, kind: str = "J", constants=_CONSTANTS) -> Program:
                    blocks=(BlockRecord(kind, None, 0, Span(0, 0)),), code=bytes(asm.code))
 
 
+def guarded(body) -> Program:
+    """A program of one jump block: COND, whose handler is a NEXT_BLOCK at the end, and
+    between them the code `body(asm)` writes (which falls into the handler)."""
+    def build(asm: Assembler) -> None:
+        fail = JumpTarget()
+        asm.emit("COND", fail, 0)
+        body(asm)
+        asm.place(fail)
+        asm.emit("NEXT_BLOCK")
+
+    return one_block(build)
+
+
 def invalid(program: Program, match: str) -> None:
     with pytest.raises(InvalidError, match=match):
         verify(program)
@@ -362,33 +375,24 @@ def test_bad_letters(program: Program) -> None:
 
 def test_stack_underflow() -> None:
     def build(asm: Assembler) -> None:
-        fail = JumpTarget()
-        asm.emit("COND", fail, 0)
         asm.emit("COMPARE", ord("="))
-        asm.place(fail)
-        asm.emit("NEXT_BLOCK")
 
-    invalid(one_block(build), "stack underflow: COMPARE pops 2 values, the stack holds 0 ")
+    invalid(guarded(build), "stack underflow: COMPARE pops 2 values, the stack holds 0 ")
 
 
 def test_stack_overflow() -> None:
     def build(asm: Assembler) -> None:
-        fail = JumpTarget()
-        asm.emit("COND", fail, 0)
         for _ in range(MAX_STACK + 1):
             asm.emit("PUSH_CONST", 0)
         asm.emit("CALL_E", 0, 255)
-        asm.place(fail)
-        asm.emit("NEXT_BLOCK")
 
-    invalid(one_block(build), f"stack overflow: more than {MAX_STACK} values ")
+    invalid(guarded(build), f"stack overflow: more than {MAX_STACK} values ")
 
 
 def test_a_full_stack_is_not_an_overflow() -> None:
     """MAX_STACK values at once are allowed: one more is the overflow."""
     def build(asm: Assembler) -> None:
-        fail, after_first, after_second = JumpTarget(), JumpTarget(), JumpTarget()
-        asm.emit("COND", fail, 0)
+        after_first, after_second = JumpTarget(), JumpTarget()
         for _ in range(MAX_STACK):
             asm.emit("PUSH_CONST", 0)
         asm.emit("COMPARE", ord("="))
@@ -397,25 +401,19 @@ def test_a_full_stack_is_not_an_overflow() -> None:
         asm.emit("CALL_E", 0, MAX_STACK - 2)
         asm.emit("JUMP_IF_FALSE", after_second)
         asm.place(after_second)
-        asm.place(fail)
-        asm.emit("NEXT_BLOCK")
 
-    verify(one_block(build))
+    verify(guarded(build))
 
 
 def test_stack_types_are_shown_in_order() -> None:
     def build(asm: Assembler) -> None:
-        fail = JumpTarget()
-        asm.emit("COND", fail, 0)
         asm.emit("PUSH_CONST", 0)
         asm.emit("PUSH_CONST", 0)
         asm.emit("COMPARE", ord("="))
         asm.emit("PUSH_CONST", 0)
         asm.emit("COMPARE", ord("="))
-        asm.place(fail)
-        asm.emit("NEXT_BLOCK")
 
-    invalid(one_block(build), r"COMPARE pops \[v v\], the stack holds \[b v\]")
+    invalid(guarded(build), r"COMPARE pops \[v v\], the stack holds \[b v\]")
 
 
 def test_stack_types() -> None:
@@ -432,64 +430,46 @@ def test_stack_types() -> None:
 
 def test_values_left_at_an_exit() -> None:
     def build(asm: Assembler) -> None:
-        fail = JumpTarget()
-        asm.emit("COND", fail, 0)
         asm.emit("PUSH_CONST", 0)
         asm.emit("NEXT_BLOCK")
-        asm.place(fail)
-        asm.emit("NEXT_BLOCK")
 
-    invalid(one_block(build), "NEXT_BLOCK needs an empty stack, it holds 1 values")
+    invalid(guarded(build), "NEXT_BLOCK needs an empty stack, it holds 1 values")
 
 
 def test_this_needs_a_candidate() -> None:
     def build(asm: Assembler) -> None:
-        fail = JumpTarget()
-        asm.emit("COND", fail, 0)
         asm.emit("PUSH_THIS")
-        asm.place(fail)
-        asm.emit("NEXT_BLOCK")
 
-    invalid(one_block(build), "PUSH_THIS needs a candidate in THIS, but no search is running")
+    invalid(guarded(build), "PUSH_THIS needs a candidate in THIS, but no search is running")
 
     def next_candidate_alone(asm: Assembler) -> None:
-        fail = JumpTarget()
-        asm.emit("COND", fail, 0)
         asm.emit("NEXT_CANDIDATE")
-        asm.place(fail)
-        asm.emit("NEXT_BLOCK")
 
-    invalid(one_block(next_candidate_alone), "NEXT_CANDIDATE needs a search started by FIND or "
-                                             "a candidate in THIS, but no search is running")
+    invalid(guarded(next_candidate_alone), "NEXT_CANDIDATE needs a search started by FIND or "
+                                           "a candidate in THIS, but no search is running")
 
 
 def test_search_must_end_before_an_exit() -> None:
     def build(asm: Assembler) -> None:
-        fail, bind = JumpTarget(), JumpTarget()
-        asm.emit("COND", fail, 0)
+        bind = JumpTarget()
         asm.emit("FIND", 0, 0, ord("U"), bind)
         asm.emit("NEXT_CANDIDATE")
         asm.emit("NEXT_BLOCK")
         asm.place(bind)
         asm.emit("BIND")
-        asm.place(fail)
-        asm.emit("NEXT_BLOCK")
 
-    invalid(one_block(build), "NEXT_BLOCK needs no search running, but a search is still "
-                              "running")
+    invalid(guarded(build), "NEXT_BLOCK needs no search running, but a search is still "
+                            "running")
 
 
 def test_find_needs_next_candidate_and_its_bind() -> None:
     def build(asm: Assembler) -> None:
-        fail, bind = JumpTarget(), JumpTarget()
-        asm.emit("COND", fail, 0)
+        bind = JumpTarget()
         asm.emit("FIND", 0, 0, ord("U"), bind)
         asm.place(bind)
         asm.emit("BIND")
-        asm.place(fail)
-        asm.emit("NEXT_BLOCK")
 
-    invalid(one_block(build), "FIND must be followed by NEXT_CANDIDATE")
+    invalid(guarded(build), "FIND must be followed by NEXT_CANDIDATE")
 
     def wrong_bind(asm: Assembler) -> None:
         fail = JumpTarget()
@@ -501,14 +481,13 @@ def test_find_needs_next_candidate_and_its_bind() -> None:
         asm.emit("NEXT_BLOCK")
 
     # The handler after the BIND: COND (9 bytes), FIND (14), NEXT_CANDIDATE and BIND (1 each).
-    invalid(one_block(wrong_bind), "FIND names code offset 25 as its BIND, which is not a BIND "
-                                   "after it")
+    invalid(one_block(wrong_bind), "FIND names code offset 25 as its BIND, which is not a "
+                                     "BIND after it")
 
 
 def test_searches_hold_tests_only() -> None:
     def forward(asm: Assembler) -> None:
-        fail, bind = JumpTarget(), JumpTarget()
-        asm.emit("COND", fail, 0)
+        bind = JumpTarget()
         asm.emit("FIND", 0, 0, ord("U"), bind)
         asm.emit("NEXT_CANDIDATE")
         asm.emit("PUSH_THIS")
@@ -517,30 +496,24 @@ def test_searches_hold_tests_only() -> None:
         asm.emit("JUMP_IF_FALSE", bind)
         asm.place(bind)
         asm.emit("BIND")
-        asm.place(fail)
-        asm.emit("NEXT_BLOCK")
 
-    invalid(one_block(forward), "inside a search, a jump may only return")
+    invalid(guarded(forward), "inside a search, a jump may only return")
 
     def assigns(asm: Assembler) -> None:
-        fail, bind = JumpTarget(), JumpTarget()
-        asm.emit("COND", fail, 0)
+        bind = JumpTarget()
         asm.emit("FIND", 0, 0, ord("U"), bind)
         asm.emit("NEXT_CANDIDATE")
         asm.emit("PUSH_CONST", 0)
         asm.emit("SET_VAR", ord("U"), 0)
         asm.place(bind)
         asm.emit("BIND")
-        asm.place(fail)
-        asm.emit("NEXT_BLOCK")
 
-    invalid(one_block(assigns), "SET_VAR needs no search running")
+    invalid(guarded(assigns), "SET_VAR needs no search running")
 
 
 def test_paths_must_agree() -> None:
     def build(asm: Assembler) -> None:
-        fail, join = JumpTarget(), JumpTarget()
-        asm.emit("COND", fail, 0)
+        join = JumpTarget()
         asm.emit("PUSH_CONST", 0)
         asm.emit("PUSH_CONST", 0)
         asm.emit("COMPARE", ord("="))
@@ -548,38 +521,27 @@ def test_paths_must_agree() -> None:
         asm.emit("PUSH_CONST", 0)
         asm.place(join)
         asm.emit("SET_VAR", ord("U"), 0)
-        asm.place(fail)
-        asm.emit("NEXT_BLOCK")
 
     # Each path's state is shown: the values on the stack, whether a search runs.
-    invalid(one_block(build), r"paths meet at code offset 31 with different stacks or searches "
-                              r"\(stack \[\], search none and stack \[v\], search none\)")
+    invalid(guarded(build), r"paths meet at code offset 31 with different stacks or searches "
+                            r"\(stack \[\], search none and stack \[v\], search none\)")
 
 
 def test_a_jump_to_itself_is_backward() -> None:
     def build(asm: Assembler) -> None:
-        fail, here = JumpTarget(), JumpTarget()
-        asm.emit("COND", fail, 0)
+        here = JumpTarget()
         asm.emit("CALL_E", 0, 0)
         asm.place(here)
         asm.emit("JUMP_IF_FALSE", here)
-        asm.place(fail)
-        asm.emit("NEXT_BLOCK")
 
-    invalid(one_block(build), "blk0: a backward jump may only return to the "
-                              "NEXT_CANDIDATE of the running search")
+    invalid(guarded(build), "blk0: a backward jump may only return to the "
+                            "NEXT_CANDIDATE of the running search")
 
 
 def test_falling_through_into_the_last_instruction() -> None:
     """The last instruction may be reached by falling through the one before it (here COND,
     whose handler is the same instruction)."""
-    def build(asm: Assembler) -> None:
-        fail = JumpTarget()
-        asm.emit("COND", fail, 0)
-        asm.place(fail)
-        asm.emit("NEXT_BLOCK")
-
-    verify(one_block(build))
+    verify(guarded(lambda asm: None))
 
 
 def test_running_off_the_block() -> None:
@@ -805,33 +767,27 @@ def test_every_refusal_of_the_code() -> None:
             "COND's handler must come after it")
 
     def second_next_candidate(asm: Assembler) -> None:
-        fail, bind = JumpTarget(), JumpTarget()
-        asm.emit("COND", fail, 0)
+        bind = JumpTarget()
         asm.emit("FIND", 0, 0, ord("U"), bind)
         asm.emit("NEXT_CANDIDATE")
         asm.emit("NEXT_CANDIDATE")
         asm.place(bind)
         asm.emit("BIND")
-        asm.place(fail)
-        asm.emit("NEXT_BLOCK")
 
-    invalid(one_block(second_next_candidate),
+    invalid(guarded(second_next_candidate),
             "NEXT_CANDIDATE must follow the FIND of the running search")
 
     def other_bind(asm: Assembler) -> None:
-        fail, first, second = JumpTarget(), JumpTarget(), JumpTarget()
-        asm.emit("COND", fail, 0)
+        first, second = JumpTarget(), JumpTarget()
         asm.emit("FIND", 0, 0, ord("U"), second)
         asm.emit("NEXT_CANDIDATE")
         asm.place(first)
         asm.emit("BIND")
         asm.place(second)
         asm.emit("BIND")
-        asm.place(fail)
-        asm.emit("NEXT_BLOCK")
 
-    invalid(one_block(other_bind), "BIND ends the search of the FIND at 9, which names "
-                                   "another BIND")
+    invalid(guarded(other_bind), "BIND ends the search of the FIND at 9, which names "
+                                 "another BIND")
     invalid(one_block(lambda asm: (asm.emit("NEXT_BLOCK"), asm.emit("ISSUE"),
                                    asm.emit("NEXT_BLOCK")), "I"),
             "NEXT_BLOCK cannot come before ISSUE in an instruction block")
