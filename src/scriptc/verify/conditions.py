@@ -35,6 +35,7 @@ from typing import TYPE_CHECKING
 
 from scriptc.ir import nodes as ir
 from scriptc.ir.walk import ConditionVisitor
+from scriptc.runtime.bindings import SCOPE_RANK
 from scriptc.runtime.commands import Value, as_number, compare, to_text
 from scriptc.source import Span
 from scriptc.verify.timeset import TimeSet
@@ -111,9 +112,10 @@ class Outcomes:
     parts: tuple[Part, ...]
 
 
-# A run's tracked variables: (name, value or None when unset, scope rank), sorted by name.
+# A run's tracked variables: (name, value or None when unset, the rank of its scope in
+# runtime.bindings.SCOPE_RANK, UNSET when unset), sorted by name.
 Valuation = tuple[tuple[str, str | None, int], ...]
-_RANK = {"L": 0, "T": 1, "U": 2}
+UNSET = -1
 
 
 @dataclass(frozen=True, slots=True)
@@ -126,6 +128,15 @@ class Branch:
     at: TimeSet
     valuation: Valuation
     world: bool
+
+
+def runs_standard(name: str, functions: Implementations | None,
+                  standard: Implementations) -> bool:
+    """Whether the run's `name` (`functions`; None: the standard ones) is the standard
+    implementation (a repository may not redefine one, but verify does not rely on that)."""
+    ours = standard.get(name)
+    theirs = ours if functions is None else functions.get(name)
+    return ours is not None and theirs is ours
 
 
 def _constant(value: bool, what: str, span: Span | None = None) -> Part:
@@ -265,8 +276,8 @@ class _Reader(ConditionVisitor):
             text = to_text(given.value)
             if text is None:
                 return _constant(False, f"`{var}` gets no value", a.span)
-            rank = max(_RANK.get(a.scope.text, 2), values[var][1] if values[var][0] is not None
-                       else -1)
+            # The longer scope is kept, as runtime.bindings.Bindings.set_var does.
+            rank = max(SCOPE_RANK.get(a.scope.text, SCOPE_RANK["U"]), values[var][1])
             values[var] = (text, rank)
             return _constant(True, f"`{var}` takes the text `{text}`", a.span)
         if name == "now" and self._runs_standard("now"):
@@ -295,11 +306,7 @@ class _Reader(ConditionVisitor):
         return _free(f"what `{name}` says", e.span)
 
     def _runs_standard(self, name: str) -> bool:
-        """Whether the run's `name` is the standard implementation (a repository may not
-        redefine one, but verify does not rely on that)."""
-        ours = self.standard.get(name)
-        theirs = ours if self.functions is None else self.functions.get(name)
-        return ours is not None and theirs is ours
+        return runs_standard(name, self.functions, self.standard)
 
 
 def _conjunction(parts: list[Part], what: str, span: Span) -> Part:
@@ -435,9 +442,7 @@ def tracked_variables(conditions: list[ir.Condition], elsewhere: list[ir.Conditi
     the standard `str`, and that no condition of `elsewhere` (the rules') assigns."""
     from scriptc.runtime.functions import STANDARD_IMPLEMENTATIONS
 
-    standard = STANDARD_IMPLEMENTATIONS.get("str")
-    str_is_standard = standard is not None and (
-        functions is None or functions.get("str") is standard)
+    str_is_standard = runs_standard("str", functions, STANDARD_IMPLEMENTATIONS)
     sources: dict[str, list[ir.Value | None]] = {}  # var -> what each assignment gives it
     for condition in conditions:
         for a in condition.assignments:

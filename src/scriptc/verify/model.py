@@ -20,8 +20,10 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from scriptc.ir import nodes as ir
+from scriptc.runtime.bindings import SCOPE_RANK
 from scriptc.runtime.commands import BlockAddress, BlockCommands
 from scriptc.verify.conditions import (
+    UNSET,
     Branch,
     Outcomes,
     Valuation,
@@ -133,7 +135,7 @@ class Model:
         jumps = [b.condition for _, b in blocks if isinstance(b, ir.JumpBlock)]
         self.tracked = tracked_variables(jumps, [s.condition for s in self.switches],
                                          functions)
-        self.valuations: list[Valuation] = [tuple((name, None, -1)
+        self.valuations: list[Valuation] = [tuple((name, None, UNSET)
                                                   for name in sorted(self.tracked))]
         self._valuation_ids: dict[Valuation, int] = {self.valuations[0]: 0}
         self._branches: dict[tuple[int, int], list[tuple[Branch, int]]] = {}
@@ -172,7 +174,7 @@ class Model:
         variables of scope `L` and `T` are unset (`runtime/bindings.py`)."""
         if not self.tracked:
             return valuation
-        kept = tuple((name, value if rank == 2 else None, rank if rank == 2 else -1)
+        kept = tuple((name, value, rank) if rank == SCOPE_RANK["U"] else (name, None, UNSET)
                      for name, value, rank in self.valuations[valuation])
         return self.valuation_id(kept)
 
