@@ -72,6 +72,10 @@ class Move:
     gate: TimeSet = ALWAYS
     values: int = -1  # the valuation after it (-1: the same as before)
 
+    def valuation_after(self, before: int) -> int:
+        """The number of the valuation after the move, from `before`."""
+        return before if self.values < 0 else self.values
+
 
 @dataclass(frozen=True, slots=True)
 class Cycle:
@@ -289,7 +293,7 @@ def _paths_back(ways: Callable[[int, int], list[Move]], head: int, valuation: in
         if len(path) >= MAX_CYCLE_BLOCKS:
             continue
         for move in reversed(ways(node, values)):
-            after = values if move.values < 0 else move.values
+            after = move.valuation_after(values)
             if move.to == head:
                 if after == valuation:
                     count += 1
@@ -310,6 +314,11 @@ def explore(model: Model, *, max_records: int = MAX_RECORDS,
                         [[] for _ in model.steps])
     loops: dict[tuple[int, int], dict[int, list[Cycle]]] = {}  # state -> head -> cycles
     width = 1 << len(model.switches)  # the sets of switches fired
+
+    def state(valuation: int, fired: int, block: int) -> int:
+        """A state's number: block x switches fired x valuation (decoded with divmod)."""
+        return (valuation * width + fired) * end + block
+
     out_moves: dict[int, list[Move]] = {}  # state -> moves
     pending: dict[int, tuple[TimeSet, list[Source]]] = {}
     heap: list[tuple[int, int]] = []
@@ -401,9 +410,8 @@ def explore(model: Model, *, max_records: int = MAX_RECORDS,
                     if move.to == ENDED:
                         arrive(ENDED, at, Source(record, move), "override")
                     else:
-                        after = valuation if move.values < 0 else move.values
-                        arrive((after * width + (fired | 1 << move.switch)) * end + move.to,
-                               at, Source(record, move))
+                        arrive(state(move.valuation_after(valuation), fired | 1 << move.switch,
+                                     move.to), at, Source(record, move))
                     continue
                 at = record.times if move.allowed is ALWAYS else record.times & move.allowed
                 if not at:
@@ -412,8 +420,7 @@ def explore(model: Model, *, max_records: int = MAX_RECORDS,
                 if move.to >= end:
                     arrive(ENDED, later, Source(record, move), "past_end")
                     continue
-                after = valuation if move.values < 0 else move.values
-                to = (after * width + fired) * end + move.to
+                to = state(move.valuation_after(valuation), fired, move.to)
                 if move.delay == 0:
                     key = (node, to)
                     found.zero_edges[key] = found.zero_edges.get(key, TimeSet.empty()) | at
