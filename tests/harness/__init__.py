@@ -101,9 +101,12 @@ def beside(path: Path, suffix: str) -> Path:
 @cache
 def _tree() -> tuple[Path, ...]:
     """Every file under tests/cases/, sorted, leaving out hidden folders (a `.scriptc_cache`
-    that linting `config/repo` from an editor leaves at its root): listed once per run."""
+    that linting `config/repo` from an editor leaves at its root) and `__pycache__` (Python
+    writes one beside a case repository's functions module when a case imports it, unless
+    PYTHONDONTWRITEBYTECODE is set): listed once per run."""
     return tuple(sorted(p for p in CASES.rglob("*") if p.is_file()
-                        and not any(part.startswith(".") for part in p.relative_to(CASES).parts)))
+                        and not any(part.startswith(".") or part == "__pycache__"
+                                    for part in p.relative_to(CASES).parts)))
 
 
 def files(folder: str = "", pattern: str = "*", *, recursive: bool = True) -> list[Path]:
